@@ -1,0 +1,3 @@
+from nav_bench.cli import main
+
+raise SystemExit(main())

@@ -1,0 +1,164 @@
+"""Planner registry: names -> planner classes, with "did you mean" errors.
+
+Three ways in: the built-in planners below, the entry-point group
+``nav_bench.planners`` of installed packages, and a dotted path
+``package.module:ClassName`` given wherever a planner name is accepted.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+from collections.abc import Iterator
+from importlib.metadata import entry_points
+from pathlib import Path
+from typing import Any
+
+from nav_bench.errors import InputError, UnknownNameError
+from nav_bench.planners.base import Planner, resolve_params
+from nav_bench.specs import PlannerSetSpec
+from nav_bench.yamlio import LineIndex
+
+ENTRY_POINT_GROUP = "nav_bench.planners"
+
+# name -> "module:Class"; imported only when asked for, so one broken planner breaks only itself
+BUILTIN: dict[str, str] = {
+    "goal_seek": "nav_bench.planners.goal_seek:GoalSeek",
+    "eopc": "nav_bench.planners.eopc:EOPC",
+    "bug2": "nav_bench.planners.bug2:Bug2",
+    "tangent_bug": "nav_bench.planners.tangent_bug:TangentBug",
+    "dstar_lite": "nav_bench.planners.dstar_lite:DStarLite",
+    "vfh_plus": "nav_bench.planners.vfh_plus:VFHPlus",
+    "apf": "nav_bench.planners.apf:PotentialField",
+}
+
+
+class PlannerRegistry:
+    """A name -> class mapping. Registering a taken name is an error."""
+
+    def __init__(self, builtin: dict[str, str] | None = None, use_entry_points: bool = True) -> None:
+        self._targets: dict[str, str | type[Planner]] = {}
+        for name, target in (builtin or {}).items():
+            module = target.split(":")[0]
+            if importlib.util.find_spec(module) is not None:
+                self._targets[name] = target
+        if use_entry_points:
+            for ep in entry_points(group=ENTRY_POINT_GROUP):
+                self.register(ep.name, ep.value)
+
+    def register(self, name: str, target: str | type[Planner]) -> None:
+        """Add ``name``; ``target`` is a class or a ``module:Class`` string."""
+        if name in self._targets:
+            raise InputError(f"planner name {name!r} is registered twice "
+                             f"({self._targets[name]!r} and {target!r})")
+        self._targets[name] = target
+
+    def names(self) -> list[str]:
+        return sorted(self._targets)
+
+    def __contains__(self, name: str) -> bool:
+        return name in self._targets
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.names())
+
+    def get(self, name: str) -> type[Planner]:
+        """The class for a registered name or a ``module:Class`` dotted path."""
+        if name in self._targets:
+            target = self._targets[name]
+        elif ":" in name:  # a dotted path "package.module:Class"
+            target = name
+        else:
+            raise UnknownNameError("planner", name, self.names())
+        cls = load_dotted(target) if isinstance(target, str) else target
+        if not (isinstance(cls, type) and issubclass(cls, Planner)):
+            raise InputError(f"{target!r} is not a nav_bench Planner subclass")
+        return cls
+
+
+def load_dotted(target: str) -> Any:
+    """Import ``package.module:Attribute``."""
+    module_name, _, attr = target.partition(":")
+    if not attr:
+        raise InputError(f"expected 'package.module:ClassName', got {target!r}")
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError as exc:
+        raise InputError(f"cannot import planner module {module_name!r}: {exc}") from None
+    try:
+        return getattr(module, attr)
+    except AttributeError:
+        raise InputError(f"module {module_name!r} has no attribute {attr!r}") from None
+
+
+_default: PlannerRegistry | None = None
+
+
+def default_registry() -> PlannerRegistry:
+    """The registry of built-in and entry-point planners (built once per process, then read-only)."""
+    global _default
+    if _default is None:
+        _default = PlannerRegistry(BUILTIN)
+    return _default
+
+
+def check_params(planner: str, params: dict[str, Any], *, file: str | Path | None = None,
+                 index: LineIndex | None = None, registry: PlannerRegistry | None = None) -> dict[str, Any]:
+    """Full parameter dict for ``planner``; errors name the file, ``params.<key>`` and its line."""
+    from nav_bench.errors import SpecError
+
+    registry = registry or default_registry()
+    try:
+        cls = registry.get(planner)
+    except InputError as exc:
+        raise SpecError(str(exc), file=file, key_path="planner",
+                        line=index.line_of(("planner",)) if index else None) from None
+    try:
+        return resolve_params(cls, params)
+    except InputError as exc:
+        bad = next((k for k in params if k in str(exc)), None)
+        loc = ("params", bad) if bad else ("params",)
+        raise SpecError(str(exc), file=file, key_path=".".join(map(str, loc)),
+                        line=index.line_of(loc) if index else None) from None
+
+
+def parse_planner_arg(text: str) -> PlannerSetSpec:
+    """A CLI/suite planner reference as a parameter set.
+
+    ``eopc`` (a name), ``configs/planners/eopc_paper.yaml`` (a file),
+    ``eopc:RR=0.4,lambda1=0.9`` (name with overrides), ``pkg.mod:Cls`` (a dotted path).
+    """
+    import yaml
+
+    from nav_bench.specs import load_planner_set
+
+    if text.endswith((".yaml", ".yml")):
+        return load_planner_set(text)
+    name, overrides = text, {}
+    head, sep, tail = text.rpartition(":")
+    if sep and "=" in tail:
+        name = head
+        for item in tail.split(","):
+            key, eq, value = item.partition("=")
+            if not eq or not key.strip():
+                raise InputError(f"planner override {item!r} in {text!r} is not key=value")
+            overrides[key.strip()] = yaml.safe_load(value)
+    if name.endswith((".yaml", ".yml")):
+        base = load_planner_set(name)
+        spec = PlannerSetSpec(planner=base.planner, params={**base.params, **overrides})
+    else:
+        spec = PlannerSetSpec(planner=name, params=overrides)
+    resolve_params(default_registry().get(spec.planner), spec.params)
+    return spec
+
+
+def make_planner(spec: PlannerSetSpec, registry: PlannerRegistry | None = None) -> Planner:
+    """Instantiate the planner of a parameter set."""
+    cls = (registry or default_registry()).get(spec.planner)
+    return cls(**spec.params)
+
+
+def full_params(spec: PlannerSetSpec, registry: PlannerRegistry | None = None) -> dict[str, Any]:
+    """The parameter set with every default filled in (what the result row records)."""
+    cls = (registry or default_registry()).get(spec.planner)
+    return resolve_params(cls, spec.params)

@@ -1,0 +1,1 @@
+"""World layouts: geometry of a spec, rasters, generators and importers."""

@@ -1,0 +1,174 @@
+"""A world spec as flat arrays of primitives (oriented boxes and cylinders).
+
+Everything that needs the true geometry (scene building, rasterising, clearance,
+plots) starts from :func:`static_geometry`, so walls and polylines are turned into
+boxes in exactly one place.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from nav_bench.errors import SpecError, format_key_path
+from nav_bench.specs import WorldSpec
+from nav_bench.yamlio import LineIndex
+
+BOUNDARY_THICKNESS = 0.15  # m, boundary walls lie just outside [0, sx] x [0, sy]
+
+
+@dataclass(frozen=True)
+class StaticGeometry:
+    """Static obstacles of a world.
+
+    Attributes:
+        boxes: (N, 5) float array of ``cx, cy, sx, sy, yaw`` (m, m, m, m, rad); sx, sy full sizes.
+        cylinders: (M, 3) float array of ``cx, cy, radius`` (m).
+        box_source: N indices into ``world.obstacles`` (-1 for boundary walls).
+        cylinder_source: M indices into ``world.obstacles``.
+        height: wall height (m).
+        size: world size (sx, sy) in m.
+    """
+
+    boxes: np.ndarray
+    cylinders: np.ndarray
+    box_source: np.ndarray
+    cylinder_source: np.ndarray
+    height: float
+    size: tuple[float, float]
+
+    @property
+    def count(self) -> int:
+        return len(self.boxes) + len(self.cylinders)
+
+
+def segment_box(a: tuple[float, float], b: tuple[float, float], thickness: float) -> list[float]:
+    """The box (cx, cy, length, thickness, yaw) of a wall from ``a`` to ``b``.
+
+    The wall is extended by half its thickness at both ends so chained walls close their corners.
+    """
+    (ax, ay), (bx, by) = a, b
+    length = math.hypot(bx - ax, by - ay)
+    return [(ax + bx) / 2, (ay + by) / 2, length + thickness, thickness, math.atan2(by - ay, bx - ax)]
+
+
+def static_geometry(world: WorldSpec) -> StaticGeometry:
+    """Flatten the world's static obstacles (and boundary walls) into primitive arrays."""
+    boxes: list[list[float]] = []
+    box_src: list[int] = []
+    cyls: list[list[float]] = []
+    cyl_src: list[int] = []
+    for i, obstacle in enumerate(world.obstacles):
+        kind, shape = obstacle.kind, obstacle.shape
+        if kind == "wall":
+            boxes.append(segment_box(shape.from_, shape.to, shape.thickness))
+            box_src.append(i)
+        elif kind == "box":
+            boxes.append([*shape.center, *shape.size, math.radians(shape.yaw_deg)])
+            box_src.append(i)
+        elif kind == "cylinder":
+            cyls.append([*shape.center, shape.radius])
+            cyl_src.append(i)
+        elif kind == "polyline":
+            pts = list(shape.points) + ([shape.points[0]] if shape.closed else [])
+            for a, b in zip(pts[:-1], pts[1:], strict=True):
+                if a != b:
+                    boxes.append(segment_box(a, b, shape.thickness))
+                    box_src.append(i)
+    if world.boundary:
+        sx, sy = world.size
+        t = BOUNDARY_THICKNESS
+        boxes += [
+            [sx / 2, -t / 2, sx + 2 * t, t, 0.0],
+            [sx / 2, sy + t / 2, sx + 2 * t, t, 0.0],
+            [-t / 2, sy / 2, t, sy, 0.0],
+            [sx + t / 2, sy / 2, t, sy, 0.0],
+        ]
+        box_src += [-1] * 4
+    return StaticGeometry(
+        boxes=np.asarray(boxes, dtype=float).reshape(-1, 5),
+        cylinders=np.asarray(cyls, dtype=float).reshape(-1, 3),
+        box_source=np.asarray(box_src, dtype=int),
+        cylinder_source=np.asarray(cyl_src, dtype=int),
+        height=world.wall_height,
+        size=(float(world.size[0]), float(world.size[1])),
+    )
+
+
+def signed_distances(geometry: StaticGeometry, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Signed distance from each point to every primitive (negative inside).
+
+    Args:
+        points: (K, 2) array of x, y in m.
+    Returns:
+        ``(d_boxes, d_cylinders)`` of shapes (K, N) and (K, M), in m.
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    b = geometry.boxes
+    if len(b):
+        dx = pts[:, None, 0] - b[None, :, 0]
+        dy = pts[:, None, 1] - b[None, :, 1]
+        c, s = np.cos(b[:, 4]), np.sin(b[:, 4])
+        lx = np.abs(c * dx + s * dy) - b[:, 2] / 2  # box frame, minus half extents
+        ly = np.abs(-s * dx + c * dy) - b[:, 3] / 2
+        outside = np.hypot(np.maximum(lx, 0), np.maximum(ly, 0))
+        inside = np.minimum(np.maximum(lx, ly), 0)
+        d_boxes = outside + inside
+    else:
+        d_boxes = np.zeros((len(pts), 0))
+    cy = geometry.cylinders
+    if len(cy):
+        d_cyl = np.hypot(pts[:, None, 0] - cy[None, :, 0], pts[:, None, 1] - cy[None, :, 1]) - cy[:, 2]
+    else:
+        d_cyl = np.zeros((len(pts), 0))
+    return d_boxes, d_cyl
+
+
+def clearance(geometry: StaticGeometry, points: np.ndarray, chunk: int = 2048) -> np.ndarray:
+    """Distance (m) from each of (K, 2) points to the nearest static obstacle; negative inside."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    out = np.full(len(pts), np.inf)
+    for start in range(0, len(pts), chunk):  # bounded memory for long traces x many obstacles
+        db, dc = signed_distances(geometry, pts[start:start + chunk])
+        both = np.concatenate([db, dc], axis=1)
+        if both.shape[1]:
+            out[start:start + chunk] = both.min(axis=1)
+    return out
+
+
+def obstacle_containing(geometry: StaticGeometry, xy: tuple[float, float], margin: float = 0.0) -> int | None:
+    """Index into ``world.obstacles`` of an obstacle within ``margin`` of ``xy`` (-1: boundary)."""
+    db, dc = signed_distances(geometry, np.asarray([xy]))
+    if db.size and db.min() < margin:
+        return int(geometry.box_source[int(np.argmin(db[0]))])
+    if dc.size and dc.min() < margin:
+        return int(geometry.cylinder_source[int(np.argmin(dc[0]))])
+    return None
+
+
+def check_world_geometry(world: WorldSpec, *, file: str | Path | None = None,
+                         index: LineIndex | None = None) -> None:
+    """Refuse a world whose start or goal lies outside it or inside an obstacle."""
+    geometry = static_geometry(world)
+    sx, sy = world.size
+    for key, xy in (("start", tuple(world.start[:2])), ("goal", tuple(world.goal))):
+        line = index.line_of((key,)) if index else None
+        if not (0.0 < xy[0] < sx and 0.0 < xy[1] < sy):
+            raise SpecError(
+                f"({xy[0]:g}, {xy[1]:g}) lies outside the world [0, {sx:g}] x [0, {sy:g}]",
+                file=file, key_path=key, line=line)
+        hit = obstacle_containing(geometry, xy)
+        if hit is not None:
+            what = "a boundary wall" if hit < 0 else format_key_path(("obstacles", hit))
+            raise SpecError(f"({xy[0]:g}, {xy[1]:g}) lies inside {what}; expected a free point",
+                            file=file, key_path=key, line=line)
+    for i, mover in enumerate(world.movers):
+        for j, (x, y) in enumerate(mover.path):
+            if not (0.0 <= x <= sx and 0.0 <= y <= sy):
+                loc = ("movers", i, "path", j)
+                raise SpecError(f"waypoint ({x:g}, {y:g}) lies outside the world",
+                                file=file, key_path=format_key_path(loc),
+                                line=index.line_of(loc) if index else None)
