@@ -6,10 +6,11 @@
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, TypeVar, get_args
 
 import yaml
 from pydantic import BaseModel, ValidationError
@@ -87,11 +88,44 @@ def load_yaml(path: str | Path) -> tuple[Any, LineIndex]:
     return parse_yaml(text, path)
 
 
-def _describe(err: dict[str, Any]) -> str:
+def _model_at(model: type[BaseModel], loc: Sequence[str | int]) -> type[BaseModel] | None:
+    """The pydantic model that validates the mapping at ``loc`` (None if not a model)."""
+    current: Any = model
+    for part in loc:
+        if isinstance(part, int):
+            continue
+        if not (isinstance(current, type) and issubclass(current, BaseModel)):
+            return None
+        fields = {f.alias or name: f for name, f in current.model_fields.items()}
+        if part not in fields:
+            return None
+        current = _first_model(fields[part].annotation)
+    return current if isinstance(current, type) and issubclass(current, BaseModel) else None
+
+
+def _first_model(annotation: Any) -> Any:
+    """The first BaseModel inside ``X | None``, ``list[X]``, ``dict[str, X]`` and the like."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in get_args(annotation):
+        found = _first_model(arg)
+        if found is not None:
+            return found
+    return None
+
+
+def _describe(err: dict[str, Any], model: type[BaseModel], loc: Loc) -> str:
     kind = err.get("type", "")
     msg = err.get("msg", "invalid value")
     if kind == "extra_forbidden":
-        return "unknown key (not allowed here; check the spelling against the documentation)"
+        parent = _model_at(model, loc[:-1])
+        if parent is None:
+            return "unknown key"
+        allowed = sorted(f.alias or name for name, f in parent.model_fields.items()
+                         if name != "base_dir")
+        close = difflib.get_close_matches(str(loc[-1]), allowed, n=1)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        return f"unknown key; {hint}allowed here: {', '.join(allowed)}"
     if kind == "missing":
         return "required key is missing"
     if "input" in err and kind not in ("value_error", "assertion_error"):
@@ -116,9 +150,10 @@ def validate(model: type[M], data: Any, *, file: str | Path | None, index: LineI
     except ValidationError as exc:
         errors = []
         for err in exc.errors():
-            loc = (*prefix, *_clean_loc(err["loc"]))
+            own = _clean_loc(err["loc"])
+            loc = (*prefix, *own)
             line = index.line_of(loc) if index else None
-            errors.append(SpecError(_describe(err), file=file, key_path=format_key_path(loc), line=line))
+            errors.append(SpecError(_describe(err, model, own), file=file, key_path=format_key_path(loc), line=line))
         if len(errors) == 1:
             raise errors[0] from None
         raise SpecErrors(errors) from None

@@ -7,6 +7,7 @@ boxes in exactly one place.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -74,7 +75,7 @@ def static_geometry(world: WorldSpec) -> StaticGeometry:
             cyl_src.append(i)
         elif kind == "polyline":
             pts = list(shape.points) + ([shape.points[0]] if shape.closed else [])
-            for a, b in zip(pts[:-1], pts[1:], strict=True):
+            for a, b in itertools.pairwise(pts):
                 if a != b:
                     boxes.append(segment_box(a, b, shape.thickness))
                     box_src.append(i)

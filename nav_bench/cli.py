@@ -1,0 +1,295 @@
+"""``nav-bench``: the command line. Thin: parses arguments and calls the library.
+
+Exit status: 0 success, 2 bad input (nothing simulated), 1 anything else.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+from nav_bench import __version__
+from nav_bench.errors import InputError, NavBenchError
+
+Handler = Callable[[argparse.Namespace], int]
+
+
+def _xy(text: str) -> tuple[float, float]:
+    try:
+        x, y = (float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected X,Y in metres, got {text!r}") from None
+    return (x, y)
+
+
+def _key_value(text: str) -> tuple[str, Any]:
+    import yaml
+
+    key, eq, value = text.partition("=")
+    if not eq or not key:
+        raise argparse.ArgumentTypeError(f"expected key=value, got {text!r}")
+    return key, yaml.safe_load(value)
+
+
+# --------------------------------------------------------------------------- commands
+def cmd_run(args: argparse.Namespace) -> int:
+    from nav_bench.runner import run_suite
+
+    out = run_suite(args.suite, workers=args.workers, out=args.out, resume=args.resume,
+                    executor=args.executor, progress=not args.quiet)
+    print(f"results: {out}")
+    if not args.no_report:
+        from nav_bench.report import write_report
+
+        report = write_report([out], out=None)
+        print(f"report:  {report}")
+    return 0
+
+
+def cmd_episode(args: argparse.Namespace) -> int:
+    from nav_bench.episode import EpisodeSettings, run_episode
+    from nav_bench.planners.registry import parse_planner_arg
+    from nav_bench.specs import load_robot, load_world
+
+    world = load_world(args.world)
+    planner = parse_planner_arg(args.planner)
+    robot = load_robot(args.robot) if args.robot else load_robot()
+    settings = EpisodeSettings(time_s=args.time_limit, stuck_s=None if args.no_stuck else 30.0)
+    live = None
+    if args.live or args.record:
+        from nav_bench.live import LiveView
+
+        live = LiveView(world, every_s=0.5, show=args.live, save=args.record)
+    result = run_episode(world, planner, seed=args.seed, robot=robot, settings=settings,
+                         world_file=args.world, gui=args.gui, live=live)
+    row = result.row
+    if args.plot:
+        from nav_bench.episode_plot import plot_episode
+
+        plot_episode(result.trace, args.plot)
+    if args.trace:
+        result.trace.save(args.trace)
+    if args.json:
+        print(json.dumps(row, default=str))
+    else:
+        print(f"{row['world']} / {row['planner']} seed {row['seed']}: {row['outcome']} in "
+              f"{row['time_s']:.1f} s simulated ({row['wall_s']:.2f} s wall), path "
+              f"{row['path_length_m']:.2f} m (optimal {_fmt(row['optimal_length_m'])} m), "
+              f"SPL {row['spl']:.3f}, re-plans {row['replans']}, collisions {row['collisions']}, "
+              f"min clearance {row['min_clearance_m']:.3f} m")
+        if row["error"]:
+            print(row["error"], file=sys.stderr)
+        if args.plot:
+            print(f"plot: {args.plot}")
+    return 0 if row["outcome"] != "error" else 1
+
+
+def _fmt(value: float | None) -> str:
+    return "n/a" if value is None else f"{value:.2f}"
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    from nav_bench.report import write_report
+
+    path = write_report([Path(d) for d in args.dirs], out=args.out)
+    print(f"report: {path}")
+    return 0
+
+
+def cmd_validate(args: argparse.Namespace) -> int:
+    from nav_bench.validate import validate_paths
+
+    problems, checked = validate_paths([Path(p) for p in args.paths])
+    for message in problems:
+        print(message, file=sys.stderr)
+    print(f"{checked - len(problems)} of {checked} files valid")
+    return 2 if problems or checked == 0 else 0
+
+
+def cmd_show(args: argparse.Namespace) -> int:
+    from nav_bench.specs import load_world
+    from nav_bench.world.draw import save_world_png
+
+    world = load_world(args.world)
+    save_world_png(world, args.output)
+    print(f"{world.name}: {world.size[0]:g} m x {world.size[1]:g} m, {len(world.obstacles)} "
+          f"obstacles, {len(world.movers)} movers -> {args.output}")
+    try:
+        from nav_bench.world.difficulty import difficulty
+    except ImportError:
+        return 0
+    for key, value in difficulty(world).items():
+        print(f"  {key:32s} {value:.3f}" if isinstance(value, float) else f"  {key:32s} {value}")
+    return 0
+
+
+def cmd_planners(args: argparse.Namespace) -> int:
+    from nav_bench.planners.registry import default_registry
+
+    registry = default_registry()
+    for name in registry.names():
+        try:
+            cls = registry.get(name)
+        except NavBenchError as exc:
+            print(f"{name}: cannot load ({exc})")
+            continue
+        doc = (cls.__doc__ or "").strip().splitlines()[0] if cls.__doc__ else ""
+        print(f"{name}: {doc}")
+        if cls.reference:
+            print(f"  reference: {cls.reference}")
+        for p in cls.params:
+            unit = f" [{p.unit}]" if p.unit and p.unit != "-" else ""
+            choices = f" one of {list(p.choices)}" if p.choices else ""
+            print(f"  {p.name:24s} = {p.default!r:<10}{unit}  {p.doc}{choices}")
+        print()
+    return 0
+
+
+def cmd_generate(args: argparse.Namespace) -> int:
+    from nav_bench.world.generate import generate_world, list_generators, write_world_yaml
+
+    if args.list or not args.kind:
+        for name, info in list_generators().items():
+            print(f"{name}: {info.doc}")
+            for s in info.settings:
+                print(f"  {s[0]:20s} = {s[1]!r:<10} [{s[2]}]  {s[3]}")
+        return 0
+    if not args.output:
+        raise InputError("generate needs -o FILE")
+    data = generate_world(args.kind, args.seed, dict(args.set or []))
+    write_world_yaml(data, args.output)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def cmd_import(args: argparse.Namespace) -> int:
+    from nav_bench.specs import world_from_data
+    from nav_bench.world import imports
+
+    if args.format == "ros":
+        data = imports.import_ros(Path(args.map), start=args.start, goal=args.goal,
+                                  unknown_as=args.unknown)
+    elif args.format == "movingai":
+        data = imports.import_movingai(Path(args.map), scen=Path(args.scen) if args.scen else None,
+                                       index=args.index, cell=args.cell)
+    else:
+        data = imports.import_barn(Path(args.map))
+    world_from_data(data, file=args.output)  # refuse to write a world that would not load
+    imports.write_world_yaml(data, args.output)
+    print(f"wrote {args.output} ({len(data.get('obstacles', []))} obstacles)")
+    return 0
+
+
+def cmd_perf(args: argparse.Namespace) -> int:
+    from nav_bench.perf import run_perf
+
+    run_perf(world_file=args.world, seconds=args.seconds)
+    return 0
+
+
+# --------------------------------------------------------------------------- parser
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="nav-bench",
+        description="Benchmark mobile-robot navigation in a-priori unknown indoor worlds (PyBullet).")
+    parser.add_argument("--version", action="version", version=f"nav-bench {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    p = sub.add_parser("run", help="run a batch benchmark (default suite: configs/suites/default.yaml)")
+    p.add_argument("suite", nargs="?", help="suite YAML (default: configs/suites/default.yaml)")
+    p.add_argument("--workers", type=int, help="parallel worker processes (default: CPU cores)")
+    p.add_argument("--out", type=Path, help="results folder (default: results/<suite>-<timestamp>)")
+    p.add_argument("--resume", type=Path, help="finish an interrupted results folder")
+    p.add_argument("--executor", default="local",
+                   help="local (process pool), dask (local cluster) or dask:tcp://HOST:PORT")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--no-report", action="store_true", help="do not write report.md at the end")
+    p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("episode", help="play one episode")
+    p.add_argument("world", help="world YAML")
+    p.add_argument("--planner", default="eopc",
+                   help="name, parameter-set file, or name:key=value,... (default: eopc)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--robot", help="robot config YAML (default: robots/diffbot.yaml)")
+    p.add_argument("--time-limit", type=float, help="simulated seconds (default: scales with world size)")
+    p.add_argument("--no-stuck", action="store_true", help="do not end the episode when the robot stalls")
+    p.add_argument("--plot", help="write a PNG of the map, trajectory and planner state")
+    p.add_argument("--trace", help="write the trace (.npz) for replotting")
+    p.add_argument("--json", action="store_true", help="print exactly one result row (JSON) on stdout")
+    p.add_argument("--gui", action="store_true", help="open the PyBullet GUI (needs a display)")
+    p.add_argument("--live", action="store_true", help="a live map window, redrawn every 0.5 s simulated")
+    p.add_argument("--record", help="write the live map as an animated .gif or .mp4 (no screen needed)")
+    p.set_defaults(func=cmd_episode)
+
+    p = sub.add_parser("report", help="tables and figures from stored results")
+    p.add_argument("dirs", nargs="+", help="results folder(s); two or more are compared")
+    p.add_argument("--out", type=Path, help="report folder (default: inside the first results folder)")
+    p.set_defaults(func=cmd_report)
+
+    p = sub.add_parser("validate", help="check world, planner, robot and suite files")
+    p.add_argument("paths", nargs="+", help="files or folders (folders: every *.yaml below)")
+    p.set_defaults(func=cmd_validate)
+
+    p = sub.add_parser("show", help="draw a world from above and print its difficulty measures")
+    p.add_argument("world")
+    p.add_argument("-o", "--output", required=True, help="PNG file")
+    p.set_defaults(func=cmd_show)
+
+    p = sub.add_parser("planners", help="list registered planners and their parameters")
+    p.set_defaults(func=cmd_planners)
+
+    p = sub.add_parser("generate", help="write a world YAML from a seeded generator")
+    p.add_argument("kind", nargs="?", help="generator name (see --list)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--set", type=_key_value, action="append", metavar="KEY=VALUE",
+                   help="generator setting (repeatable)")
+    p.add_argument("-o", "--output", help="world YAML to write")
+    p.add_argument("--list", action="store_true", help="list generators and their settings")
+    p.set_defaults(func=cmd_generate)
+
+    p = sub.add_parser("import", help="turn an existing map into a world YAML")
+    fmt = p.add_subparsers(dest="format", required=True, metavar="FORMAT")
+    q = fmt.add_parser("ros", help="ROS map_server map (PGM/PNG + YAML)")
+    q.add_argument("map", help="map YAML")
+    q.add_argument("--start", type=_xy, help="X,Y in the map frame (default: chosen automatically)")
+    q.add_argument("--goal", type=_xy, help="X,Y in the map frame (default: chosen automatically)")
+    q.add_argument("--unknown", choices=("obstacle", "free"), default="obstacle",
+                   help="what unknown cells become (default: obstacle)")
+    q.add_argument("-o", "--output", required=True)
+    q = fmt.add_parser("movingai", help="MovingAI .map grid (start/goal from a .scen line)")
+    q.add_argument("map")
+    q.add_argument("--scen", help=".scen file")
+    q.add_argument("--index", type=int, default=0, help="scenario line (0 = first)")
+    q.add_argument("--cell", type=float, default=0.5, help="cell size in metres (default 0.5)")
+    q.add_argument("-o", "--output", required=True)
+    q = fmt.add_parser("barn", help="BARN .world (SDF) with the BARN protocol's start and goal")
+    q.add_argument("map")
+    q.add_argument("-o", "--output", required=True)
+    p.set_defaults(func=cmd_import)
+
+    p = sub.add_parser("perf", help="measure simulation and episode speed on this machine")
+    p.add_argument("--world", default="worlds/paper/labyrinth.yaml")
+    p.add_argument("--seconds", type=float, default=60.0, help="simulated seconds per measured episode")
+    p.set_defaults(func=cmd_perf)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except NavBenchError as exc:
+        print(f"nav-bench {args.command}: error: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,76 @@
+"""Pure functions from an episode's trace to the numbers of its result row."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from nav_bench.specs import Mover, WorldSpec
+from nav_bench.world.geometry import clearance, static_geometry
+
+
+def stable_id(*parts: Any, length: int = 10) -> str:
+    """Short hash of JSON-able ``parts``, stable across runs, machines and Python versions."""
+    text = json.dumps(parts, sort_keys=True, separators=(",", ":"), default=str)
+    return hashlib.sha1(text.encode()).hexdigest()[:length]
+
+
+def path_length(xy: np.ndarray) -> float:
+    """Length (m) of the polyline through (T, 2) points."""
+    xy = np.asarray(xy, dtype=float)
+    if len(xy) < 2:
+        return 0.0
+    return float(np.hypot(*np.diff(xy, axis=0).T).sum())
+
+
+def spl(success: bool, optimal_m: float | None, travelled_m: float) -> float:
+    """Success weighted by path length (Anderson et al. 2018): S * l / max(l, p)."""
+    if not success or optimal_m is None:
+        return 0.0
+    return float(optimal_m / max(optimal_m, travelled_m, 1e-9))
+
+
+def mover_radius(mover: Mover) -> float:
+    """Radius of the disc that bounds a mover's footprint (m)."""
+    if mover.shape.cylinder is not None:
+        return mover.shape.cylinder.radius
+    sx, sy = mover.shape.box.size
+    return float(np.hypot(sx, sy) / 2)
+
+
+def min_clearance(world: WorldSpec, xy: np.ndarray, robot_radius: float,
+                  mover_xy: np.ndarray | None = None) -> float:
+    """Smallest distance (m) from the robot's edge to true geometry along (T, 2) positions.
+
+    Static geometry is exact; movers (``mover_xy`` of shape (T, M, 2)) count by their bounding
+    disc, so a box mover's clearance is slightly conservative. Negative means overlap.
+    """
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    if len(xy) == 0:
+        return float("nan")
+    best = float(clearance(static_geometry(world), xy).min())
+    if mover_xy is not None and len(world.movers):
+        radii = np.array([mover_radius(m) for m in world.movers])
+        d = np.linalg.norm(np.asarray(mover_xy)[:, :, :] - xy[:, None, :], axis=2) - radii[None, :]
+        best = min(best, float(d.min()))
+    return best - robot_radius
+
+
+@lru_cache(maxsize=64)
+def _optimal_cached(world_json: str, robot_radius: float) -> float | None:
+    from nav_bench.optimal import optimal_path
+
+    world = WorldSpec.model_validate_json(world_json)
+    return optimal_path(world, robot_radius).length_m
+
+
+def optimal_length(world: WorldSpec, robot_radius: float) -> float | None:
+    """Shortest collision-free path length (m) for a disc robot on the true static map.
+
+    Memoised per process: a batch plays the same world many times.
+    """
+    return _optimal_cached(world.model_dump_json(by_alias=True), round(float(robot_radius), 6))
