@@ -13,7 +13,7 @@ import math
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, PositiveFloat, model_validator
+from pydantic import BaseModel, ConfigDict, Field, PositiveFloat, model_serializer, model_validator
 
 from nav_bench.errors import SpecError
 from nav_bench.yamlio import LineIndex, load_yaml, validate
@@ -50,6 +50,12 @@ def _one_of(kinds: tuple[str, ...], what: str):
         return data
 
     return check
+
+
+def _drop_unused_kinds(self: BaseModel, handler: Any) -> Any:
+    """Dump a one-key model as that one key, so a dump validates again (round trip)."""
+    data = handler(self)
+    return {k: v for k, v in data.items() if v is not None} if isinstance(data, dict) else data
 
 
 # --------------------------------------------------------------------------- world
@@ -104,6 +110,7 @@ class Obstacle(Strict):
     _check = model_validator(mode="before")(
         lambda data: _one_of(OBSTACLE_KINDS, "an obstacle")(data)
     )
+    _dump = model_serializer(mode="wrap")(_drop_unused_kinds)
 
     @property
     def kind(self) -> str:
@@ -131,6 +138,7 @@ class MoverShape(Strict):
     _check = model_validator(mode="before")(
         lambda data: _one_of(("cylinder", "box"), "a mover shape")(data)
     )
+    _dump = model_serializer(mode="wrap")(_drop_unused_kinds)
 
 
 class Mover(Strict):

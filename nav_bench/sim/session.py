@@ -1,0 +1,164 @@
+"""One PyBullet connection, owned by a context manager and passed explicitly to everything else.
+
+Nothing in nav-bench uses PyBullet's implicit default client: every call goes through the
+:class:`~pybullet_utils.bullet_client.BulletClient` of a :class:`SimSession`, so several
+sessions can live in one process (one per worker thread or episode) without sharing state.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import sys
+from collections.abc import Iterator
+from types import TracebackType
+
+import pybullet
+from pybullet_utils.bullet_client import BulletClient
+
+from nav_bench.errors import SimulationError
+
+GRAVITY = 9.81  # m/s^2
+
+# Collision filter groups (bit masks). Two bodies collide when each one's group is in the
+# other's mask. PyBullet puts mass-0 bodies (ground, walls, movers) in STATIC, whose mask
+# leaves out STATIC, so static bodies are never pair-tested against each other. The robot gets
+# its own bit so sonar rays can skip it with one mask. The ground keeps PyBullet's defaults:
+# giving it its own group made stepping 4x slower with 1,000 boxes (measured), and horizontal
+# rays above the floor cannot hit it anyway.
+GROUP_ROBOT = 32
+RAY_MASK = ~GROUP_ROBOT  # what sonar rays may hit: everything but the robot
+
+
+@contextlib.contextmanager
+def quiet_c_stdout() -> Iterator[None]:
+    """Silence C-level writes to stdout (PyBullet prints ``argv[0]=`` and loader chatter there).
+
+    Keeps stdout clean for machine-readable output (``nav-bench episode --json``). Redirects
+    file descriptor 1, which is process-wide: a thread printing at the same moment is muted too.
+    """
+    try:
+        fd = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):  # no real stdout (pytest capture, notebooks)
+        yield
+        return
+    sys.stdout.flush()
+    saved = os.dup(fd)
+    try:
+        with open(os.devnull, "wb") as devnull:
+            os.dup2(devnull.fileno(), fd)
+            try:
+                yield
+            finally:
+                os.dup2(saved, fd)
+    finally:
+        os.close(saved)
+
+
+class SimSession:
+    """A PyBullet world: one client, gravity, a fixed time step and a ground plane.
+
+    Use it as a context manager; the connection is closed on exit, also after an error::
+
+        with SimSession() as session:
+            sim = Simulation(session, world, robot, rng)
+            ...
+
+    Args:
+        gui: open PyBullet's OpenGL window instead of the headless DIRECT engine.
+        physics_hz: physics steps per simulated second (time step ``1 / physics_hz``).
+
+    Attributes:
+        client: the BulletClient every other part of ``nav_bench.sim`` receives.
+        ground_id: body id of the ground plane (z = 0).
+        dt: physics time step, s.
+    """
+
+    def __init__(self, gui: bool = False, physics_hz: float = 240.0) -> None:
+        if physics_hz <= 0:
+            raise SimulationError(f"physics_hz must be positive, got {physics_hz}")
+        self.gui = gui
+        self.physics_hz = float(physics_hz)
+        self._client: BulletClient | None = None
+        self.ground_id = -1
+
+    # -- lifetime ------------------------------------------------------------------------
+    def __enter__(self) -> SimSession:
+        self.open()
+        return self
+
+    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
+                 tb: TracebackType | None) -> None:
+        self.close()
+
+    def open(self) -> None:
+        """Connect (idempotent) and build the empty world."""
+        if self._client is not None:
+            return
+        if self.gui and sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
+            raise SimulationError("the GUI needs a display, but $DISPLAY is not set; "
+                                  "run without --gui (headless) or on a desktop session")
+        mode = pybullet.GUI if self.gui else pybullet.DIRECT
+        what = "GUI" if self.gui else "DIRECT"
+        try:
+            with quiet_c_stdout():
+                client = BulletClient(connection_mode=mode)
+        except pybullet.error as exc:
+            raise SimulationError(f"could not connect to PyBullet ({what}): {exc}") from exc
+        if client._client < 0:  # BulletClient keeps the id private; -1 means no connection
+            hint = " (only one GUI window per process)" if self.gui else ""
+            raise SimulationError(f"could not connect to PyBullet ({what}){hint}")
+        self._client = client
+        self.reset()
+
+    def close(self) -> None:
+        """Disconnect (idempotent)."""
+        client, self._client = self._client, None
+        if client is not None:
+            with contextlib.suppress(pybullet.error):
+                client.disconnect()
+
+    @property
+    def client(self) -> BulletClient:
+        if self._client is None:
+            raise SimulationError("the simulation session is not open (use `with SimSession() as s:`)")
+        return self._client
+
+    @property
+    def dt(self) -> float:
+        return 1.0 / self.physics_hz
+
+    # -- world -----------------------------------------------------------------------------
+    def reset(self, physics_hz: float | None = None) -> None:
+        """Empty the world: gravity, time step, deterministic settings and the ground plane.
+
+        Called by every :class:`~nav_bench.sim.simulation.Simulation`, so an episode always
+        starts from the same state, whatever the session simulated before.
+        """
+        if physics_hz is not None:
+            if physics_hz <= 0:
+                raise SimulationError(f"physics_hz must be positive, got {physics_hz}")
+            self.physics_hz = float(physics_hz)
+        c = self.client
+        c.resetSimulation()
+        if self.gui:
+            c.configureDebugVisualizer(pybullet.COV_ENABLE_GUI, 0)
+        c.setGravity(0.0, 0.0, -GRAVITY)
+        c.setTimeStep(self.dt)
+        # Same inputs -> same results bit for bit: pair order must not depend on memory layout.
+        # Bullet's default 50 solver iterations stay: at 30 or fewer the robot creeps at rest and
+        # acceleration limits are missed (tests/sim/test_sim_robot.py), though steps get cheaper.
+        c.setPhysicsEngineParameter(deterministicOverlappingPairs=1, numSubSteps=0)
+        plane = c.createCollisionShape(pybullet.GEOM_PLANE)
+        self.ground_id = c.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=plane)
+        c.changeDynamics(self.ground_id, -1, lateralFriction=1.0, restitution=0.0)
+
+    def show_floor(self, sx: float, sy: float) -> None:
+        """GUI only: a visible floor tile covering [0, sx] x [0, sy] (the plane has no visual)."""
+        if not self.gui:
+            return
+        c = self.client
+        visual = c.createVisualShape(pybullet.GEOM_BOX, halfExtents=[sx / 2, sy / 2, 0.0005],
+                                     rgbaColor=[0.92, 0.92, 0.90, 1.0])
+        c.createMultiBody(baseMass=0.0, baseVisualShapeIndex=visual,
+                          basePosition=[sx / 2, sy / 2, -0.0005])

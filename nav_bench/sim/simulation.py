@@ -1,0 +1,243 @@
+"""The simulator facade the episode loop uses: a world, a robot, its sonars and odometry.
+
+::
+
+    with SimSession() as session:
+        sim = Simulation(session, world, robot_spec, rng)
+        for _ in range(cycles):
+            ranges = sim.sense()                 # (K,) m
+            cmd = planner.act(... sim.odometry_pose() ...)
+            sim.apply(cmd)
+            sim.step(round(physics_hz / control_hz))
+
+Noise (sonar, odometry) is drawn from ``rng`` only, in a fixed order, so the same inputs
+give the same trace bit for bit.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Iterable
+
+import numpy as np
+import pybullet
+
+from nav_bench.errors import SimulationError
+from nav_bench.planners.base import Command, RobotInfo, SonarInfo
+from nav_bench.sim.movers import MoverBodies
+from nav_bench.sim.robot import DiffDriveRobot
+from nav_bench.sim.scene import DEFAULT_LAYOUT, SceneLayout, StaticScene, build_static_scene
+from nav_bench.sim.session import SimSession
+from nav_bench.sim.sonar import RayBundle, SonarArray, noisy_readings
+from nav_bench.specs import RobotSpec, WorldSpec
+from nav_bench.world.geometry import static_geometry
+
+# A manifold point counts as touching when its separation is below this (m). PyBullet keeps
+# contact points up to a few mm apart in its manifolds; those are near misses, not contacts.
+CONTACT_DISTANCE = 1e-3
+
+
+class ContactEpisodes:
+    """Counts contact episodes: touching a body after at least one step apart from it counts once.
+
+    Staying pressed against a wall is one episode; backing off and hitting it again is two.
+    One compound scene body holds many obstacles, so sliding from one into a touching
+    neighbour of the same body continues the episode.
+    """
+
+    def __init__(self) -> None:
+        self.count = 0
+        self.touching: frozenset[int] = frozenset()
+
+    def update(self, touching: Iterable[int]) -> int:
+        """Record the bodies touched in this physics step; returns the episodes that began."""
+        now = frozenset(touching)
+        new = len(now - self.touching)
+        self.count += new
+        self.touching = now
+        return new
+
+
+class Simulation:
+    """A world with the robot standing at its start pose, ready to sense and drive.
+
+    Creating it resets the session's world (scene, movers, robot), so each episode starts from
+    the same state.
+
+    Args:
+        session: an open :class:`SimSession`.
+        world: the validated world.
+        robot_spec: the robot config (URDF and sensing/actuation settings).
+        rng: the episode's generator; sonar and odometry noise are drawn from it.
+        physics_hz: physics rate; ``None`` keeps the session's.
+        layout: how static obstacles are grouped into bodies (for benchmarks; keep the default).
+
+    Attributes:
+        robot_info: geometry and limits for the planner (from the URDF and the config).
+        last_rays: rays of the last :meth:`sense` (``None`` before the first).
+        timing: cumulative wall-clock seconds in ``"physics"`` (:meth:`step`) and
+            ``"sensing"`` (:meth:`sense`).
+    """
+
+    def __init__(self, session: SimSession, world: WorldSpec, robot_spec: RobotSpec,
+                 rng: np.random.Generator, physics_hz: float | None = None, *,
+                 layout: SceneLayout = DEFAULT_LAYOUT) -> None:
+        session.reset(physics_hz)
+        self.session = session
+        self.world = world
+        self.robot_spec = robot_spec
+        self.rng = rng
+        self.dt = session.dt
+        client = session.client
+        gui = session.gui
+        if gui:
+            client.configureDebugVisualizer(pybullet.COV_ENABLE_RENDERING, 0)
+        self.scene: StaticScene = build_static_scene(client, static_geometry(world), gui=gui,
+                                                     layout=layout)
+        self.movers = MoverBodies(client, list(world.movers), world.wall_height, gui=gui)
+        self.robot = DiffDriveRobot(client, robot_spec, world.start_pose, self.dt)
+        model = self.robot.model
+        self.sonar = SonarArray(client, model.sonar_mounts, model.sonar_yaws, robot_spec.sonar)
+        if gui:
+            sx, sy = world.size
+            session.show_floor(sx, sy)
+            client.resetDebugVisualizerCamera(cameraDistance=0.9 * max(sx, sy), cameraYaw=0.0,
+                                              cameraPitch=-89.0,
+                                              cameraTargetPosition=[sx / 2, sy / 2, 0.0])
+            client.configureDebugVisualizer(pybullet.COV_ENABLE_RENDERING, 1)
+
+        spec = robot_spec
+        r_min = min(model.wheel_radius)
+        self.robot_info = RobotInfo(
+            radius=model.radius, wheel_base=model.wheel_base,
+            v_max=r_min * spec.drive.max_wheel_speed,
+            omega_max=2.0 * r_min * spec.drive.max_wheel_speed / model.wheel_base,
+            sonar=SonarInfo(angles=model.sonar_yaws.copy(),
+                            offsets=model.sonar_mounts[:, :2].copy(),
+                            cone=math.radians(spec.sonar.cone_deg),
+                            min_range=spec.sonar.min_range, max_range=spec.sonar.max_range))
+        self.last_rays: RayBundle | None = None
+        self.timing = {"physics": 0.0, "sensing": 0.0}
+        self._steps = 0
+        self._contacts = ContactEpisodes()
+        self._ground = session.ground_id
+        self._robot_id = self.robot.body_id
+        self._step_physics = client.stepSimulation
+        self._contact_points = client.getContactPoints
+        self._debug_items: dict[str, list[int]] = {}
+
+    # -- time ----------------------------------------------------------------------------------
+    @property
+    def t(self) -> float:
+        """Simulated time since the start, s (steps x dt: no drift from summing)."""
+        return self._steps * self.dt
+
+    def step(self, n: int = 1) -> None:
+        """Advance ``n`` physics steps: movers, wheel motors, physics, odometry, contacts.
+
+        The odometry noise gains (one per wheel, ``1 + N(0, wheel_noise)``) are drawn once per
+        call and scale every wheel increment of the call: the episode calls ``step`` once per
+        control cycle, so the error is per control period, whatever the physics rate.
+        """
+        if n < 0:
+            raise SimulationError(f"cannot step a negative number of steps ({n})")
+        if n == 0:
+            return
+        start = time.perf_counter()
+        noise = self.rng.standard_normal(2) * self.robot_spec.odometry.wheel_noise
+        gain_l, gain_r = 1.0 + float(noise[0]), 1.0 + float(noise[1])
+        robot, movers, dt = self.robot, self.movers, self.dt
+        has_movers = bool(movers.body_ids)
+        try:
+            for _ in range(n):
+                robot.before_physics_step()
+                if has_movers:
+                    movers.place((self._steps + 1) * dt)  # where they are when the step ends
+                self._step_physics()
+                self._steps += 1
+                robot.after_physics_step(gain_l, gain_r)
+                self._contacts.update(self._touching())
+        except pybullet.error as exc:
+            raise SimulationError(f"PyBullet failed while stepping: {exc}") from exc
+        finally:
+            self.timing["physics"] += time.perf_counter() - start
+
+    def _touching(self) -> set[int]:
+        ground = self._ground
+        return {p[2] for p in self._contact_points(bodyA=self._robot_id)
+                if p[2] != ground and p[8] < CONTACT_DISTANCE}
+
+    # -- robot -----------------------------------------------------------------------------------
+    def apply(self, cmd: Command) -> None:
+        """Drive with ``cmd`` (v m/s, omega rad/s) from the next physics step on."""
+        if not (math.isfinite(cmd.v) and math.isfinite(cmd.omega)):
+            raise SimulationError(f"command must be finite, got v={cmd.v}, omega={cmd.omega}")
+        self.robot.command(cmd)
+
+    def sense(self) -> np.ndarray:
+        """(K,) sonar readings in m, in ``robot_info.sonar`` order (noise and dropout applied)."""
+        start = time.perf_counter()
+        pos, orn = self.robot.link_pose()
+        rotation = np.asarray(self.session.client.getMatrixFromQuaternion(orn)).reshape(3, 3)
+        ranges, hit, self.last_rays = self.sonar.cast(pos, rotation)
+        out = noisy_readings(ranges, hit, self.robot_spec.sonar, self.rng)
+        self.timing["sensing"] += time.perf_counter() - start
+        return out
+
+    def true_pose(self) -> np.ndarray:
+        """(3,) true pose x, y, yaw (m, m, rad)."""
+        return self.robot.true_pose()
+
+    def odometry_pose(self) -> np.ndarray:
+        """(3,) wheel-odometry pose estimate x, y, yaw (m, m, rad); what the planner gets."""
+        return self.robot.odometry_pose()
+
+    @property
+    def collisions(self) -> int:
+        """Contact episodes with anything but the floor so far."""
+        return self._contacts.count
+
+    @property
+    def contact_now(self) -> bool:
+        """Whether the robot touches anything but the floor after the last physics step."""
+        return bool(self._contacts.touching)
+
+    def mover_positions(self) -> np.ndarray:
+        """(M, 2) mover positions now, m."""
+        return self.movers.positions(self.t)
+
+    # -- GUI helpers (no-ops headless) ---------------------------------------------------------
+    def draw_lines(self, segments: np.ndarray, color: tuple[float, float, float] = (1.0, 0.0, 0.0),
+                   key: str = "lines", width: float = 1.5, z: float = 0.05) -> None:
+        """Show line segments, replacing those drawn before under the same ``key``.
+
+        Args:
+            segments: (N, 2, 2) or (N, 2, 3) start and end points, m (2-D ones drawn at ``z``).
+            color: RGB in 0..1.
+        """
+        if not self.session.gui:
+            return
+        seg = np.asarray(segments, dtype=float)
+        if seg.size == 0:
+            seg = seg.reshape(0, 2, 3)
+        if seg.shape[-1] == 2:
+            seg = np.concatenate([seg, np.full((*seg.shape[:-1], 1), z)], axis=-1)
+        c = self.session.client
+        old = self._debug_items.get(key, [])
+        new = []
+        for i, (a, b) in enumerate(seg.tolist()):
+            kw = {"replaceItemUniqueId": old[i]} if i < len(old) else {}
+            new.append(c.addUserDebugLine(a, b, list(color), lineWidth=width, **kw))
+        for item in old[len(new):]:
+            c.removeUserDebugItem(item)
+        self._debug_items[key] = new
+
+    def draw_rays(self) -> None:
+        """Show the rays of the last :meth:`sense`: echoes red, misses green."""
+        rays = self.last_rays
+        if rays is None or not self.session.gui:
+            return
+        seg = np.stack([rays.starts, rays.ends], axis=1)
+        self.draw_lines(seg[rays.hit], (0.9, 0.1, 0.1), key="rays_hit", width=1.0)
+        self.draw_lines(seg[~rays.hit], (0.1, 0.7, 0.1), key="rays_miss", width=1.0)
