@@ -19,8 +19,10 @@ from nav_bench.episode import EpisodeSettings, run_episode
 from nav_bench.planners.base import Command
 from nav_bench.specs import PlannerSetSpec, WorldSpec, load_robot, load_world
 
+CURVE = Command(0.3, 0.2)  # m/s, rad/s: a gentle curve, so wheels and contacts do real work
 
-def _stepping_rate(world: WorldSpec, steps: int = 4800, command: Command = Command(0.3, 0.2)) -> float:
+
+def _stepping_rate(world: WorldSpec, steps: int = 4800, command: Command = CURVE) -> float:
     """Physics steps per wall second with the robot driving a gentle curve in ``world``."""
     from nav_bench.sim.session import SimSession
     from nav_bench.sim.simulation import Simulation
