@@ -213,7 +213,7 @@ class SonarSpec(Strict):
 class OdometrySpec(Strict):
     """Wheel odometry noise: each wheel's angle increment is scaled by (1 + N(0, wheel_noise))."""
 
-    wheel_noise: NonNegFloat = 0.01  # fraction of each wheel increment (slip, encoder error)
+    wheel_noise: NonNegFloat = 0.002  # fraction of each wheel increment per control cycle
 
 
 class DriveSpec(Strict):

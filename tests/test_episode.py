@@ -1,0 +1,150 @@
+"""Whole episodes in the simulator: outcomes, determinism, the result row, traces."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from nav_bench.episode import EpisodeSettings, Trace, run_episode
+from nav_bench.planners.base import Command, Planner
+from nav_bench.specs import PlannerSetSpec, WorldSpec, load_world
+
+ROOT = Path(__file__).resolve().parents[1]
+OPEN_ROOM = ROOT / "worlds" / "paper" / "open_room.yaml"
+
+ROW_FIELDS = {
+    "world": str, "world_file": str, "planner": str, "params": dict, "params_id": str,
+    "seed": int, "success": bool, "outcome": str, "time_s": float, "path_length_m": float,
+    "optimal_length_m": float, "spl": float, "replans": int, "collisions": int,
+    "min_clearance_m": float, "wall_s": float,
+}
+
+
+@pytest.fixture(scope="module")
+def open_room_result():
+    world = load_world(OPEN_ROOM)
+    return run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=3, world_file=str(OPEN_ROOM))
+
+
+def test_goal_seek_reaches_the_goal_in_the_open_room(open_room_result):
+    row = open_room_result.row
+    assert row["outcome"] == "reached" and row["success"] is True
+    # straight diagonal from (1, 1) to (9, 9), stopping within the 0.2 m goal tolerance
+    straight = math.hypot(8, 8)
+    assert row["optimal_length_m"] == pytest.approx(straight, rel=0.01)
+    assert row["path_length_m"] == pytest.approx(straight - 0.25, abs=0.15)
+    assert 0.95 <= row["spl"] <= 1.0
+    assert row["collisions"] == 0
+    # the room's walls are 1 m from start and goal; the robot's edge 0.18 m closer
+    assert row["min_clearance_m"] == pytest.approx(1.0 - 0.18, abs=0.12)
+    assert row["goal_distance_m"] < 0.3
+
+
+def test_result_row_has_every_interface_field_with_its_type(open_room_result):
+    row = open_room_result.row
+    for key, kind in ROW_FIELDS.items():
+        assert isinstance(row[key], kind), key
+    assert row["params"]["v_max"] > 0  # defaults filled in
+    assert len(row["params_id"]) == 10
+    json.dumps(row)  # a row is plain JSON
+
+
+def test_same_seed_gives_the_same_row_but_wall_time(open_room_result):
+    world = load_world(OPEN_ROOM)
+    again = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=3, world_file=str(OPEN_ROOM))
+    a = {k: v for k, v in open_room_result.row.items() if k != "wall_s"}
+    b = {k: v for k, v in again.row.items() if k != "wall_s"}
+    assert a == b
+    np.testing.assert_array_equal(open_room_result.trace.true_pose, again.trace.true_pose)
+
+
+def test_different_seeds_differ_in_noise(open_room_result):
+    world = load_world(OPEN_ROOM)
+    other = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=4,
+                        settings=EpisodeSettings(time_s=5.0))
+    n = len(other.trace.t) - 1
+    assert not np.array_equal(other.trace.ranges[:n], open_room_result.trace.ranges[:n])
+
+
+def test_trace_round_trips_through_npz(open_room_result, tmp_path):
+    path = open_room_result.trace.save(tmp_path / "t.npz")
+    back = Trace.load(path)
+    assert back.world == open_room_result.trace.world
+    assert back.row == json.loads(json.dumps(open_room_result.row))
+    np.testing.assert_allclose(back.true_pose, open_room_result.trace.true_pose, atol=1e-5)
+
+
+def test_timeout_and_stuck_outcomes():
+    world = load_world(OPEN_ROOM)
+    timeout = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=0,
+                          settings=EpisodeSettings(time_s=3.0))
+    assert timeout.row["outcome"] == "timeout" and timeout.row["time_s"] == pytest.approx(3.0)
+
+    class Idle(Planner):
+        name = "idle"
+
+        def act(self, obs):
+            return Command(0.0, 0.0)
+
+    stuck = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=0, planner_instance=Idle(),
+                        settings=EpisodeSettings(time_s=60.0, stuck_s=4.0))
+    assert stuck.row["outcome"] == "stuck"
+    assert stuck.row["time_s"] == pytest.approx(4.0, abs=0.11)
+
+
+def test_a_planner_that_raises_gives_an_error_row():
+    class Broken(Planner):
+        name = "broken"
+
+        def act(self, obs):
+            raise ZeroDivisionError("boom")
+
+    world = load_world(OPEN_ROOM)
+    result = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=0, planner_instance=Broken())
+    assert result.row["outcome"] == "error" and result.row["success"] is False
+    assert "ZeroDivisionError: boom" in result.row["error"]
+
+
+def test_eopc_reaches_the_goal_behind_the_long_wall():
+    world = load_world(ROOT / "worlds" / "paper" / "long_wall.yaml")
+    result = run_episode(world, PlannerSetSpec(planner="eopc"), seed=0,
+                         settings=EpisodeSettings(time_s=600.0))
+    row = result.row
+    assert row["outcome"] == "reached", row
+    assert row["replans"] >= 1
+    # it had to go round the wall's lower end, below y = 2
+    assert result.trace.true_pose[:, 1].min() < 2.0
+
+
+def test_episode_json_prints_exactly_one_row():
+    proc = subprocess.run(
+        [sys.executable, "-m", "nav_bench", "episode", str(OPEN_ROOM), "--planner", "goal_seek",
+         "--seed", "1", "--json", "--time-limit", "5"],
+        capture_output=True, text=True, check=True, cwd=ROOT)
+    lines = proc.stdout.strip().splitlines()
+    assert len(lines) == 1
+    row = json.loads(lines[0])
+    assert row["world"] == "open_room" and row["seed"] == 1 and row["outcome"] == "timeout"
+
+
+def test_collisions_are_counted_in_the_row():
+    world = WorldSpec.model_validate({"name": "wall_ahead", "size": [4, 4], "start": [1, 2, 0],
+                                      "goal": [3.5, 2], "obstacles": [{"wall": {"from": [2, 0.5], "to": [2, 3.5]}}]})
+
+    class Ram(Planner):
+        name = "ram"
+
+        def act(self, obs):  # forward 3 s, back 2 s, forward again
+            phase = obs.t % 6.0
+            return Command(0.3 if phase < 3.0 else -0.3 if phase < 5.0 else 0.3, 0.0)
+
+    result = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=0, planner_instance=Ram(),
+                         settings=EpisodeSettings(time_s=10.0, stuck_s=None))
+    assert result.row["collisions"] == 2
+    assert result.row["min_clearance_m"] < 0.01
