@@ -123,7 +123,8 @@ def cmd_show(args: argparse.Namespace) -> int:
     except ImportError:
         return 0
     for key, value in difficulty(world).items():
-        print(f"  {key:32s} {value:.3f}" if isinstance(value, float) else f"  {key:32s} {value}")
+        shown = f"{value:.3f}" if isinstance(value, float) else "n/a (goal unreachable)" if value is None else value
+        print(f"  {key:32s} {shown}")
     return 0
 
 
