@@ -1,0 +1,195 @@
+"""One episode as a figure: the true map, the trajectory and, for EO/PC, its grids and re-plans.
+
+Reads only a trace (any object with the attributes of :class:`nav_bench.episode.Trace`:
+``t``, ``true_pose``, ``odom_pose``, ``events``, ``planner_state``, ``world`` and
+optionally ``row``), never the simulator. For a planner whose final ``debug_state()`` has
+``pmo``/``pmt`` grids (EO/PC) the figure has two panels: the occupancy grid PMO with every
+breakpoint and its neighbours coloured by risk index, and the visit grid PMT.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.collections import PatchCollection
+from matplotlib.colors import LogNorm
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Circle, Polygon
+
+from nav_bench.specs import WorldSpec
+from nav_bench.world.draw import box_corners, draw_world
+from nav_bench.world.geometry import static_geometry
+
+RISK_COLORS = {0: "#2ca02c", 50: "#ff9f1c", 100: "#d62728"}  # SAFE green, medium orange, high red
+TRUE_COLOR, ODOM_COLOR = "#1f4e9c", "#e377c2"
+
+
+def event_fields(event: Any) -> tuple[str, float, dict[str, Any]]:
+    """(kind, t, data) of an event given as a dict ``{kind, t, data}`` or a PlannerEvent."""
+    if isinstance(event, dict):
+        return str(event.get("kind", "")), float(event.get("t", 0.0)), dict(event.get("data") or {})
+    return str(event.kind), float(event.t), dict(event.data)
+
+
+def replans(events: Iterable[Any]) -> list[dict[str, Any]]:
+    """The data of every ``replan`` event that carries neighbours (EO/PC's)."""
+    out = []
+    for e in events:
+        kind, t, data = event_fields(e)
+        if kind == "replan" and "breakpoint" in data and "neighbours" in data:
+            out.append({"t": t, **data})
+    return out
+
+
+def grid_extent(state: dict[str, Any]) -> list[float]:
+    """imshow extent [xmin, xmax, ymin, ymax] of a planner grid (row 0 at ymin)."""
+    xmin, ymin, xmax, ymax = (float(v) for v in state["bounds"])
+    return [xmin, xmax, ymin, ymax]
+
+
+def draw_outlines(ax: Axes, world: WorldSpec) -> None:
+    """Thin outlines of the true static obstacles: visible over the planner's grids."""
+    geometry = static_geometry(world)
+    patches = [Polygon(c, closed=True) for c in box_corners(geometry.boxes)]
+    patches += [Circle((cx, cy), r) for cx, cy, r in geometry.cylinders]
+    ax.add_collection(PatchCollection(patches, facecolor="none", edgecolor="#3b3b3b", lw=0.7,
+                                      zorder=2))
+
+
+def draw_pmo(ax: Axes, state: dict[str, Any], alpha: float = 0.9) -> Any:
+    """PMO as grey levels: white free, mid-grey unknown, black occupied."""
+    return ax.imshow(np.asarray(state["pmo"]), origin="lower", extent=grid_extent(state),
+                     cmap="Greys", vmin=0, vmax=100, alpha=alpha, interpolation="nearest", zorder=0)
+
+
+def draw_pmt(ax: Axes, state: dict[str, Any]) -> Any:
+    """PMT visit counts on a log colour scale; never-visited cells transparent."""
+    counts = np.asarray(state["pmt"], dtype=float)
+    masked = np.ma.masked_less_equal(counts, 0)
+    vmax = max(2.0, float(counts.max()))
+    return ax.imshow(masked, origin="lower", extent=grid_extent(state), cmap="viridis",
+                     norm=LogNorm(vmin=1, vmax=vmax), interpolation="nearest", zorder=3)
+
+
+def draw_replans(ax: Axes, plans: list[dict[str, Any]], marker_size: float = 16) -> None:
+    """Each breakpoint (x), its neighbours coloured by risk (hollow: not a candidate), the choice."""
+    for plan in plans:
+        bx, by = plan["breakpoint"]
+        pts = np.asarray(plan["neighbours"], dtype=float)
+        risk = plan.get("risk", [100] * len(pts))
+        cand = plan.get("candidate", [True] * len(pts))
+        colors = [RISK_COLORS.get(int(r), "#7f7f7f") for r in risk]
+        for filled in (True, False):
+            sel = [i for i in range(len(pts)) if bool(cand[i]) == filled]
+            if not sel:
+                continue
+            ax.scatter(pts[sel, 0], pts[sel, 1], s=marker_size, linewidths=0.9, zorder=6,
+                       facecolors=[colors[i] for i in sel] if filled else "none",
+                       edgecolors=[colors[i] for i in sel])
+        chosen = plan.get("chosen")
+        if chosen is not None:
+            cx, cy = pts[int(chosen)]
+            ax.plot([bx, cx], [by, cy], color="black", lw=0.8, zorder=6)
+            ax.scatter([cx], [cy], s=marker_size * 4, marker="*", facecolors=colors[int(chosen)],
+                       edgecolors="black", linewidths=0.6, zorder=7)
+        ax.scatter([bx], [by], s=marker_size * 2, marker="x", color="black", linewidths=1.2, zorder=7)
+
+
+def draw_paths(ax: Axes, trace: Any, light: bool = False) -> None:
+    """True trajectory (solid) and odometry estimate (dashed); ``light`` for over a colour map."""
+    true = np.asarray(trace.true_pose)
+    odom = np.asarray(getattr(trace, "odom_pose", None) if getattr(trace, "odom_pose", None)
+                      is not None else np.zeros((0, 3)))
+    alpha, scale = (0.45, 0.5) if light else (1.0, 1.0)
+    if len(odom):
+        ax.plot(odom[:, 0], odom[:, 1], ls="--", lw=1.0 * scale, color=ODOM_COLOR, alpha=alpha,
+                zorder=4)
+    if len(true):
+        ax.plot(true[:, 0], true[:, 1], lw=1.6 * scale, color=TRUE_COLOR, alpha=alpha, zorder=5)
+        ax.plot([true[-1, 0]], [true[-1, 1]], marker="o", ms=5, color=TRUE_COLOR, zorder=5)
+
+
+def episode_title(trace: Any) -> str:
+    """``world - planner: outcome, time, path, re-plans`` from the row (or the trace alone)."""
+    row = getattr(trace, "row", None) or {}
+    world = row.get("world") or getattr(trace.world, "name", None) or "world"
+    planner = row.get("planner", "planner")
+    outcome = row.get("outcome", "?")
+    t = row.get("time_s", float(np.asarray(trace.t)[-1]) if len(trace.t) else 0.0)
+    true = np.asarray(trace.true_pose)
+    length = row.get("path_length_m",
+                     float(np.hypot(*np.diff(true[:, :2], axis=0).T).sum()) if len(true) > 1 else 0.0)
+    n_replans = row.get("replans", sum(event_fields(e)[0] == "replan" for e in trace.events))
+    seed = f", seed {row['seed']}" if "seed" in row else ""
+    return (f"{world} - {planner}{seed}: {outcome} after {t:.1f} s, "
+            f"path {length:.1f} m, {n_replans} re-plans")
+
+
+def legend_handles(has_grids: bool, has_plans: bool) -> list[Line2D]:
+    handles = [
+        Line2D([], [], color=TRUE_COLOR, lw=1.6, label="trajectory (true)"),
+        Line2D([], [], color=ODOM_COLOR, lw=1.0, ls="--", label="trajectory (odometry)"),
+        Line2D([], [], color="#1f77b4", marker="o", ls="none", label="start"),
+        Line2D([], [], color="#d62728", marker="*", ms=10, ls="none", label="goal"),
+    ]
+    if has_plans:
+        handles += [
+            Line2D([], [], color="black", marker="x", ls="none", label="breakpoint"),
+            *[Line2D([], [], color=c, marker="o", ls="none", label=f"neighbour, risk {r}")
+              for r, c in RISK_COLORS.items()],
+            Line2D([], [], color="#7f7f7f", marker="o", mfc="none", ls="none",
+                   label="not a candidate (blocked / tried)"),
+            Line2D([], [], color="black", marker="*", mfc="#2ca02c", ms=10, ls="none",
+                   label="chosen point Pi"),
+        ]
+    if has_grids:
+        handles += [Line2D([], [], color="#808080", marker="s", ls="none", ms=8,
+                           label="PMO (white free, black occupied)"),
+                    Line2D([], [], color="#3b3b3b", marker="s", mfc="none", ls="none", ms=8,
+                           label="true obstacles")]
+    return handles
+
+
+def plot_episode(trace: Any, path: str | Path, title: str | None = None, dpi: int = 150) -> Path:
+    """Draw one episode to ``path`` (any format matplotlib writes: .png, .pdf, .svg).
+
+    Returns the path written.
+    """
+    state = getattr(trace, "planner_state", None) or {}
+    has_grids = "pmo" in state and "bounds" in state
+    plans = replans(trace.events)
+    sx, sy = trace.world.size
+    width, height = 5.2 * sx / max(sx, sy), 5.2 * sy / max(sx, sy)  # inches per panel
+    ncols = 2 if has_grids and "pmt" in state else 1
+    fig = Figure(figsize=(ncols * (width + 0.7), height + 1.5), layout="constrained")
+    axes = fig.subplots(1, ncols, squeeze=False)[0]
+
+    ax = axes[0]
+    if has_grids:
+        draw_pmo(ax, state)
+        draw_outlines(ax, trace.world)
+    draw_world(ax, trace.world, faint=True)
+    draw_paths(ax, trace)
+    draw_replans(ax, plans, marker_size=16 if len(plans) <= 12 else 9)
+    ax.set_title("occupancy PMO and re-plans" if has_grids else "trajectory", fontsize=10)
+
+    if ncols == 2:
+        ax2 = axes[1]
+        draw_world(ax2, trace.world, faint=True)
+        image = draw_pmt(ax2, state)
+        draw_paths(ax2, trace, light=True)
+        ax2.set_title("visits PMT (control cycles per cell)", fontsize=10)
+        fig.colorbar(image, ax=ax2, shrink=0.8, label="cycles in cell")
+
+    fig.suptitle(title or episode_title(trace), fontsize=11)
+    fig.legend(handles=legend_handles(has_grids, bool(plans)), loc="outside lower center",
+               ncol=min(5, 4 + bool(plans)), fontsize=8, frameon=False)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=dpi)
+    return path

@@ -1,0 +1,202 @@
+"""A live map of an episode, redrawn every ``every_s`` of simulated time (the paper: 0.5 s).
+
+``LiveView`` shows the true map faint, the planner's occupancy grid (when its
+``debug_state()`` has ``pmo``), the trajectory so far, the robot, and the latest re-plan's
+neighbours coloured by risk. It draws to a window (``show=True``, needs an interactive
+matplotlib backend) and/or to an animated file without a screen (``save=`` ``.gif`` via
+Pillow, ``.mp4`` via ffmpeg).
+
+The episode calls :meth:`LiveView.update` every control cycle and :meth:`LiveView.close`
+at the end. Memory: GIF frames are kept (palette-compressed, ~0.1-0.2 MB each at the
+default size) until :meth:`close` writes the file; MP4 frames stream to ffmpeg.
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.figure import Figure
+from matplotlib.patches import Circle
+
+from nav_bench.episode_plot import RISK_COLORS, TRUE_COLOR, event_fields, grid_extent
+from nav_bench.errors import InputError
+from nav_bench.specs import WorldSpec
+from nav_bench.world.draw import draw_world
+
+NON_INTERACTIVE = {"agg", "pdf", "ps", "svg", "pgf", "cairo", "template"}
+
+
+class LiveView:
+    """Redraws the episode every ``every_s`` simulated seconds to a window and/or a file.
+
+    Args:
+        world: the world being played (its true map is drawn faint).
+        every_s: simulated seconds between frames.
+        show: open a matplotlib window (interactive backend needed, else :class:`InputError`).
+        save: ``.gif`` or ``.mp4`` path for an animation, or None.
+        fps: playback frames per second of the file (default ``1 / every_s``: real time).
+        robot_radius: m, for the robot's outline.
+        dpi, size_in: frame resolution and size (inches, longest side).
+    """
+
+    def __init__(self, world: WorldSpec, every_s: float = 0.5, show: bool = False,
+                 save: str | Path | None = None, *, fps: float | None = None,
+                 robot_radius: float = 0.18, dpi: int = 80, size_in: float = 6.0) -> None:
+        if every_s <= 0:
+            raise InputError(f"live view: every_s must be > 0, got {every_s!r}")
+        self.world, self.every_s = world, float(every_s)
+        self.save = Path(save) if save is not None else None
+        self.fps = float(fps) if fps else 1.0 / self.every_s
+        self.dpi = dpi
+        self.frames_drawn = 0
+        self._next_t = -np.inf
+        self._trail: list[tuple[float, float]] = []
+        self._last: tuple[float, np.ndarray, dict[str, Any]] | None = None
+        self._plan: dict[str, Any] | None = None
+        self._drawn_since_update = False
+        self._gif_frames: list[Any] = []
+        self._writer: Any = None
+        if self.save is not None and self.save.suffix.lower() not in (".gif", ".mp4"):
+            raise InputError(f"live view: --record expects a .gif or .mp4 file, got {str(self.save)!r}")
+        if self.save is not None and self.save.suffix.lower() == ".mp4" and shutil.which("ffmpeg") is None:
+            raise InputError("live view: writing .mp4 needs ffmpeg on the PATH (not found); "
+                             "record a .gif instead, or install ffmpeg")
+        self._make_figure(show, size_in, robot_radius)
+        if self.save is not None:
+            self.save.parent.mkdir(parents=True, exist_ok=True)
+            if self.save.suffix.lower() == ".mp4":
+                from matplotlib.animation import FFMpegWriter
+
+                self._writer = FFMpegWriter(fps=self.fps)
+                self._writer.setup(self.fig, str(self.save), dpi=self.dpi)
+
+    # -- figure --------------------------------------------------------------------------------
+    def _make_figure(self, show: bool, size_in: float, robot_radius: float) -> None:
+        sx, sy = self.world.size
+        figsize = (size_in * sx / max(sx, sy) + 0.3, size_in * sy / max(sx, sy) + 0.5)
+        self.show = show
+        if show:
+            import matplotlib
+            import matplotlib.pyplot as plt
+
+            if matplotlib.get_backend().lower() in NON_INTERACTIVE:
+                raise InputError(f"live view: the matplotlib backend {matplotlib.get_backend()!r} "
+                                 "cannot open a window; set MPLBACKEND (e.g. TkAgg, QtAgg) or "
+                                 "record to a file instead")
+            self.fig = plt.figure(figsize=figsize)
+            plt.show(block=False)
+        else:
+            from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+            self.fig = Figure(figsize=figsize)
+            FigureCanvasAgg(self.fig)
+        ax = self.ax = self.fig.add_axes((0.09, 0.08, 0.88, 0.84))
+        draw_world(ax, self.world, faint=True)
+        self._image = ax.imshow(np.zeros((1, 1)), origin="lower", cmap="Greys", vmin=0, vmax=100,
+                                alpha=0.85, interpolation="nearest", zorder=0, visible=False)
+        (self._path,) = ax.plot([], [], lw=1.4, color=TRUE_COLOR, zorder=5)
+        self._robot = Circle((0, 0), robot_radius, facecolor="none", edgecolor=TRUE_COLOR, lw=1.5,
+                             zorder=6)
+        ax.add_patch(self._robot)
+        (self._heading,) = ax.plot([], [], lw=1.5, color=TRUE_COLOR, zorder=6)
+        (self._target,) = ax.plot([], [], ls=":", lw=1.0, color="black", zorder=6)
+        self._neighbours = ax.scatter([], [], s=18, zorder=7)
+        (self._chosen,) = ax.plot([], [], marker="*", ms=11, mec="black", mfc="#2ca02c", ls="none",
+                                  zorder=8)
+        self._title = ax.set_title("t = 0.0 s", fontsize=10)
+
+    # -- the episode's calls ---------------------------------------------------------------------
+    def update(self, t: float, true_pose: np.ndarray, planner_state: dict[str, Any] | None,
+               events: list[Any] | None = None) -> None:
+        """One control cycle.
+
+        Args:
+            t: simulated time, s. true_pose: (3,) x, y, yaw.
+            planner_state: the planner's ``debug_state()`` now (may be empty).
+            events: the events emitted since the previous call ({kind, t, data} dicts or
+                PlannerEvent objects); the latest ``replan`` is drawn.
+        """
+        pose = np.asarray(true_pose, dtype=float)
+        self._trail.append((float(pose[0]), float(pose[1])))
+        for e in events or ():
+            kind, _, data = event_fields(e)
+            if kind == "replan" and "neighbours" in data:
+                self._plan = data
+        self._last = (float(t), pose, dict(planner_state or {}))
+        self._drawn_since_update = False
+        if t + 1e-9 >= self._next_t:
+            self._draw()
+            self._next_t = (np.floor(t / self.every_s + 1e-9) + 1) * self.every_s
+
+    def close(self) -> None:
+        """Draw the final state (if not drawn yet) and finish the file. Safe to call twice."""
+        if self._last is not None and not self._drawn_since_update:
+            self._draw()
+        if self._writer is not None:
+            self._writer.finish()
+            self._writer = None
+        elif self.save is not None and self._gif_frames:
+            first, *rest = self._gif_frames
+            first.save(self.save, save_all=True, append_images=rest, loop=0,
+                       duration=round(1000.0 / self.fps), disposal=1)
+            self._gif_frames = []
+        if self.show:
+            import matplotlib.pyplot as plt
+
+            plt.close(self.fig)
+            self.show = False
+
+    def __enter__(self) -> LiveView:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # -- drawing -------------------------------------------------------------------------------
+    def _draw(self) -> None:
+        assert self._last is not None
+        t, pose, state = self._last
+        if "pmo" in state and "bounds" in state:
+            self._image.set_data(np.asarray(state["pmo"]))
+            self._image.set_extent(grid_extent(state))
+            self._image.set_visible(True)
+        trail = np.asarray(self._trail)
+        self._path.set_data(trail[:, 0], trail[:, 1])
+        x, y, yaw = pose[:3]
+        self._robot.center = (x, y)
+        r = self._robot.radius
+        self._heading.set_data([x, x + 1.6 * r * np.cos(yaw)], [y, y + 1.6 * r * np.sin(yaw)])
+        target = state.get("target")
+        self._target.set_data(*(([x, target[0]], [y, target[1]]) if target is not None else ([], [])))
+        if self._plan is not None:
+            pts = np.asarray(self._plan["neighbours"], dtype=float)
+            colors = [RISK_COLORS.get(int(v), "#7f7f7f") for v in self._plan.get("risk", [])]
+            cand = self._plan.get("candidate", [True] * len(pts))
+            self._neighbours.set_offsets(pts)
+            self._neighbours.set_edgecolors(colors)
+            self._neighbours.set_facecolors([c if k else "none" for c, k in zip(colors, cand, strict=False)])
+            chosen = self._plan.get("chosen")
+            self._chosen.set_data(*(([pts[chosen, 0]], [pts[chosen, 1]]) if chosen is not None else ([], [])))
+        mode = state.get("mode")
+        self._title.set_text(f"t = {t:.1f} s" + (f"   mode: {mode}" if mode else ""))
+        self._drawn_since_update = True
+        self.frames_drawn += 1
+        if self.show:
+            self.fig.canvas.draw()
+            self.fig.canvas.flush_events()  # let the GUI paint without blocking the episode
+        if self._writer is not None:
+            self._writer.grab_frame()
+        elif self.save is not None:
+            self._grab_gif_frame()
+
+    def _grab_gif_frame(self) -> None:
+        from PIL import Image
+
+        self.fig.canvas.draw()
+        rgba = np.asarray(self.fig.canvas.buffer_rgba())
+        # palette images: ~4x less memory than RGBA while frames wait for close()
+        self._gif_frames.append(Image.fromarray(rgba[..., :3].copy()).quantize(
+            colors=255, method=Image.Quantize.FASTOCTREE))

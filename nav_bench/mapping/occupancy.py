@@ -1,0 +1,192 @@
+"""PMO, the occupancy grid the robot builds from its sonars (paper Sec. 2.1, ref. [18]).
+
+Each cell holds the log-odds ``l = log(p / (1 - p))`` that it is occupied; ``l = 0`` is
+unknown. A sonar reading ``r`` updates the cells of its cone with an inverse sensor
+model (the classic Moravec/Elfes sonar model, simplified to three bands):
+
+* cells in the cone closer than ``r - hit_thickness/2`` were seen through: ``l += l_free``;
+* cells in the cone within ``hit_thickness/2`` of ``r`` hold the echo: ``l += l_occ``
+  (the echo came from *somewhere* on that arc, so the whole arc gets the evidence);
+* cells beyond the arc are untouched (nothing is known behind an obstacle);
+* a reading at ``max_range`` (no echo) frees the cone up to ``max_range`` and marks nothing.
+
+``l`` is clamped to ``[l_min, l_max]`` so the map can still change when the world does
+(movers). :meth:`OccupancyGrid.values` gives the map as ``uint8`` 0..100 (ROS map
+convention: 0 free, 50 unknown, 100 occupied) which is what the planner reads.
+
+"In the cone" uses cell centres: a centre is inside when it lies ahead of the sonar and
+its lateral distance from the sonar axis is at most ``along * tan(cone/2) + cell/2``. The
+half-cell widening keeps narrow cones at short range from slipping between cell centres
+(a 25 deg cone is only 0.09 m wide at 0.2 m).
+
+Speed: one update touches only the cells of a disc around the robot, precomputed once as
+cell offsets sorted by distance; each sonar takes the prefix within its reach. There is
+no Python loop over cells, only over the sonars.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from nav_bench.errors import InputError
+from nav_bench.mapping.grid import Bounds, GridFrame
+from nav_bench.planners.base import SonarInfo
+
+UNKNOWN = 50  # value of a cell never observed (log-odds 0)
+
+
+def log_odds_to_values(log_odds: np.ndarray) -> np.ndarray:
+    """Occupancy percent 0..100 (uint8, rounded) of log-odds (any shape)."""
+    return np.rint(100.0 / (1.0 + np.exp(-log_odds))).astype(np.uint8)
+
+
+class OccupancyGrid:
+    """A fixed-size log-odds occupancy grid updated from ray-cone sonars.
+
+    Args:
+        bounds: (xmin, ymin, xmax, ymax) in m; the grid covers at least this rectangle.
+        cell: cell side, m (the paper's lambda, 0.1 m).
+        l_occ: log-odds added to a cell at the echo arc (> 0).
+        l_free: log-odds added to a cell seen through (< 0).
+        l_min, l_max: clamp of the log-odds (l_min < 0 < l_max).
+        hit_thickness: radial thickness of the echo arc, m (default: one cell).
+
+    Points and cells outside the grid are ignored by :meth:`update`.
+    """
+
+    def __init__(self, bounds: Bounds, cell: float = 0.1, *, l_occ: float = 0.85,
+                 l_free: float = -0.4, l_min: float = -2.0, l_max: float = 3.5,
+                 hit_thickness: float | None = None) -> None:
+        if not (l_occ > 0 > l_free):
+            raise InputError(f"occupancy grid needs l_occ > 0 > l_free, got {l_occ!r}, {l_free!r}")
+        if not (l_min < 0 < l_max):
+            raise InputError(f"occupancy grid needs l_min < 0 < l_max, got {l_min!r}, {l_max!r}")
+        self.frame = GridFrame.from_bounds(bounds, cell)
+        self.l_occ, self.l_free = float(l_occ), float(l_free)
+        self.l_min, self.l_max = float(l_min), float(l_max)
+        self.hit_thickness = float(hit_thickness) if hit_thickness else self.frame.cell
+        if self.hit_thickness <= 0:
+            raise InputError(f"hit_thickness must be > 0 m, got {hit_thickness!r}")
+        self._log_odds = np.zeros(self.frame.shape, dtype=np.float64)
+        self._values = np.full(self.frame.shape, UNKNOWN, dtype=np.uint8)  # kept in step with _log_odds
+        self._disc_radius = -1.0  # the precomputed disc of cell offsets (built on first update)
+        self._disc_rc = np.zeros((0, 2), dtype=np.int64)
+        self._disc_xy = np.zeros((0, 2))
+        self._disc_d = np.zeros(0)
+
+    # -- geometry (delegated to the frame) ---------------------------------------------------
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(H, W) in cells."""
+        return self.frame.shape
+
+    @property
+    def cell(self) -> float:
+        return self.frame.cell
+
+    @property
+    def bounds(self) -> Bounds:
+        """(xmin, ymin, xmax, ymax) in m actually covered by the cells."""
+        return self.frame.bounds
+
+    def world_to_cell(self, xy: np.ndarray | tuple[float, float]) -> np.ndarray:
+        """(row, col) of points, see :meth:`GridFrame.world_to_cell`."""
+        return self.frame.world_to_cell(xy)
+
+    def cell_center(self, row: np.ndarray | int, col: np.ndarray | int) -> np.ndarray:
+        """(x, y) of cell centres, see :meth:`GridFrame.cell_center`."""
+        return self.frame.cell_center(row, col)
+
+    # -- state -------------------------------------------------------------------------------
+    def values(self, copy: bool = True) -> np.ndarray:
+        """(H, W) uint8 occupancy 0..100 (50 unknown). ``copy=False`` returns the live,
+        read-only array (no O(H*W) work; what the planner uses every cycle)."""
+        if copy:
+            return self._values.copy()
+        view = self._values.view()
+        view.flags.writeable = False
+        return view
+
+    @property
+    def log_odds(self) -> np.ndarray:
+        """(H, W) float log-odds (read-only view)."""
+        view = self._log_odds.view()
+        view.flags.writeable = False
+        return view
+
+    def reset(self) -> None:
+        """Forget everything (all cells unknown)."""
+        self._log_odds.fill(0.0)
+        self._values.fill(UNKNOWN)
+
+    # -- the sensor update -------------------------------------------------------------------
+    def _ensure_disc(self, radius: float) -> None:
+        """Precompute cell offsets (dr, dc) within ``radius`` m of a cell centre, sorted by distance."""
+        if radius <= self._disc_radius:
+            return
+        cell = self.frame.cell
+        n = math.ceil(radius / cell)
+        dr, dc = np.mgrid[-n:n + 1, -n:n + 1]
+        d = cell * np.hypot(dr, dc).ravel()
+        keep = d <= radius
+        order = np.argsort(d[keep], kind="stable")
+        self._disc_rc = np.stack([dr.ravel()[keep], dc.ravel()[keep]], axis=1)[order]
+        self._disc_xy = self._disc_rc[:, ::-1].astype(float) * cell  # (dx, dy) in m
+        self._disc_d = d[keep][order]
+        self._disc_radius = radius
+
+    def update(self, pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo) -> None:
+        """Fuse one set of sonar readings taken at ``pose``.
+
+        Args:
+            pose: (3,) robot pose ``x, y, yaw`` (m, m, rad) in the world frame.
+            ranges: (K,) readings in m, in ``sonar`` order; ``>= max_range`` (or not finite)
+                means no echo.
+            sonar: mount angles/offsets, cone and range limits of the K sonars.
+        """
+        x, y, yaw = (float(v) for v in pose[:3])
+        ranges = np.asarray(ranges, dtype=float)
+        cell, half_t = self.frame.cell, self.hit_thickness / 2
+        mount_reach = float(np.max(np.hypot(sonar.offsets[:, 0], sonar.offsets[:, 1]), initial=0.0))
+        self._ensure_disc(sonar.max_range + half_t + mount_reach + cell)
+        r0, c0 = (int(v) for v in self.frame.world_to_cell((x, y)))
+        cx0, cy0 = (float(v) for v in self.frame.cell_center(r0, c0))
+        tan_half = math.tan(sonar.cone / 2)
+        cos_y, sin_y = math.cos(yaw), math.sin(yaw)
+        height, width = self.frame.shape
+        flat_lo = self._log_odds.reshape(-1)
+        flat_val = self._values.reshape(-1)
+        for k in range(len(ranges)):
+            ox, oy = sonar.offsets[k]
+            sx = x + cos_y * ox - sin_y * oy  # sonar position, world frame
+            sy = y + sin_y * ox + cos_y * oy
+            a = yaw + sonar.angles[k]
+            ux, uy = math.cos(a), math.sin(a)
+            r = float(ranges[k])
+            echo = math.isfinite(r) and r < sonar.max_range
+            reach = r + half_t if echo else sonar.max_range
+            # centres within `reach` of the sonar lie within reach + |sonar - cell0| of cell0's centre
+            n = int(np.searchsorted(self._disc_d, reach + math.hypot(sx - cx0, sy - cy0), "right"))
+            dx = cx0 + self._disc_xy[:n, 0] - sx
+            dy = cy0 + self._disc_xy[:n, 1] - sy
+            along = dx * ux + dy * uy
+            lateral = np.abs(dy * ux - dx * uy)
+            in_cone = (along > 0) & (lateral <= along * tan_half + cell / 2)
+            dist = np.hypot(dx, dy)
+            if echo:
+                free = in_cone & (dist < r - half_t)
+                occ = in_cone & (np.abs(dist - r) <= half_t)
+            else:
+                free = in_cone & (dist <= sonar.max_range)
+                occ = np.zeros_like(free)
+            touched = free | occ
+            rows = r0 + self._disc_rc[:n, 0]
+            cols = c0 + self._disc_rc[:n, 1]
+            touched &= (rows >= 0) & (rows < height) & (cols >= 0) & (cols < width)
+            idx = rows[touched] * width + cols[touched]  # unique within one sonar
+            delta = np.where(occ[touched], self.l_occ, self.l_free)
+            lo = np.clip(flat_lo[idx] + delta, self.l_min, self.l_max)
+            flat_lo[idx] = lo
+            flat_val[idx] = log_odds_to_values(lo)

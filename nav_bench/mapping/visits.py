@@ -1,0 +1,65 @@
+"""PMT, the trajectory grid: how many control cycles the robot centre spent in each cell.
+
+The paper's iteration risk (RI) and trajectory intensity (IPT) read it to steer re-plans
+away from places the robot has already been (Sec. 2.1). The count grows by one per
+control cycle, so a robot turning in place at a breakpoint marks that cell heavily: that
+is intended, a spot where the robot lingered is a spot to leave.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from nav_bench.mapping.grid import Bounds, GridFrame
+
+
+class VisitGrid:
+    """Visit counts over a fixed rectangle.
+
+    Args:
+        bounds: (xmin, ymin, xmax, ymax) in m; the grid covers at least this rectangle.
+        cell: cell side, m.
+
+    Attributes:
+        counts: (H, W) int64, control cycles spent with the robot centre in each cell.
+
+    Points outside the grid are ignored (:meth:`add` returns False for them).
+    """
+
+    def __init__(self, bounds: Bounds, cell: float = 0.1) -> None:
+        self.frame = GridFrame.from_bounds(bounds, cell)
+        self.counts = np.zeros(self.frame.shape, dtype=np.int64)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(H, W) in cells."""
+        return self.frame.shape
+
+    @property
+    def cell(self) -> float:
+        return self.frame.cell
+
+    @property
+    def bounds(self) -> Bounds:
+        """(xmin, ymin, xmax, ymax) in m actually covered by the cells."""
+        return self.frame.bounds
+
+    def world_to_cell(self, xy: np.ndarray | tuple[float, float]) -> np.ndarray:
+        """(row, col) of points, see :meth:`GridFrame.world_to_cell`."""
+        return self.frame.world_to_cell(xy)
+
+    def cell_center(self, row: np.ndarray | int, col: np.ndarray | int) -> np.ndarray:
+        """(x, y) of cell centres, see :meth:`GridFrame.cell_center`."""
+        return self.frame.cell_center(row, col)
+
+    def add(self, xy: np.ndarray | tuple[float, float]) -> bool:
+        """Count one control cycle at point ``xy`` (m). False (nothing counted) outside the grid."""
+        row, col = (int(v) for v in self.frame.world_to_cell(np.asarray(xy, dtype=float)[:2]))
+        if not self.frame.contains(row, col):
+            return False
+        self.counts[row, col] += 1
+        return True
+
+    def reset(self) -> None:
+        """Zero every count."""
+        self.counts.fill(0)

@@ -1,0 +1,372 @@
+"""EO/PC (nav_bench.planners.eopc): cost terms, Table 1, the selection tiers, EO, the loop.
+
+Hand-built grids: a 4 m x 4 m frame of 0.1 m cells, the breakpoint at the centre of cell
+(20, 20) = (2.05, 2.05) m, heading +x. The neighbours at theta = 0, 90, 180, -90 deg
+(indices 0, 4, 8, 12) then sit exactly on cell centres, so region A (radius 0.25 m) holds
+the 21 cells with i^2 + j^2 <= 6.25.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from harness import BoxWorld, default_robot, run
+
+from nav_bench.errors import InputError, PlannerError
+from nav_bench.mapping import GridFrame
+from nav_bench.planners.base import Command, Observation
+from nav_bench.planners.eopc import (
+    EOPC,
+    PCSettings,
+    choose_neighbour,
+    collision_risk,
+    eo_speed,
+    front_distance,
+    front_sonars,
+    heuristic_cost,
+    intensity_of_obstacles,
+    intensity_of_trajectory,
+    iteration_risk,
+    neighbour_points,
+    region_cells,
+    risk_index,
+    select_neighbour,
+    term_scales,
+    travel_cost,
+)
+from nav_bench.planners.goal_seek import GoalSeek
+
+FRAME = GridFrame.from_bounds((0.0, 0.0, 4.0, 4.0), 0.1)
+BP = np.array([2.05, 2.05])
+GOAL_AHEAD = np.array([3.55, 2.05])  # 1.5 m straight ahead of the breakpoint
+A_CELLS = 21
+
+
+def grids(pmo: int = 0, pmt: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    return np.full(FRAME.shape, pmo, dtype=np.uint8), np.full(FRAME.shape, pmt, dtype=np.int64)
+
+
+def decide(pmo: np.ndarray, pmt: np.ndarray, goal: np.ndarray = GOAL_AHEAD, **kw: object):
+    force = bool(kw.pop("force", False))
+    tried = kw.pop("tried", ())
+    return choose_neighbour(pmo, pmt, FRAME, BP, 0.0, goal, PCSettings(**kw), tried=tried, force=force)
+
+
+# ------------------------------------------------------------------ Table 1, quantisation
+TABLE_1 = {  # (RI, RC) -> r, as printed in the paper
+    (100, 100): 100, (100, 50): 100, (100, 0): 100,
+    (50, 100): 100, (50, 50): 50, (50, 0): 50,
+    (0, 100): 100, (0, 50): 50, (0, 0): 0,
+}
+
+
+@pytest.mark.parametrize(("ri", "rc"), sorted(TABLE_1))
+def test_risk_index_is_table_1(ri: int, rc: int) -> None:
+    assert int(risk_index(np.array([rc]), np.array([ri]))[0]) == TABLE_1[(ri, rc)]
+
+
+def test_rc_and_ri_quantisation_thresholds() -> None:
+    assert collision_risk(np.array([0, 34, 35, 50, 65, 66, 100]), 35, 65).tolist() == \
+        [0, 0, 50, 50, 50, 100, 100]
+    assert iteration_risk(np.array([0, 1, 19, 20, 500]), 20).tolist() == [0, 50, 50, 100, 100]
+
+
+# ------------------------------------------------------------------ cost terms
+def test_neighbours_on_the_circle_with_theta_from_the_heading() -> None:
+    pts, theta = neighbour_points(BP, 0.0, 0.5, 16)
+    assert np.degrees(theta[[0, 1, 4, 8, 9, 15]]) == pytest.approx([0, 22.5, 90, 180, -157.5, -22.5])
+    assert np.all(theta > -math.pi) and np.all(theta <= math.pi)
+    assert np.hypot(*(pts - BP).T) == pytest.approx(np.full(16, 0.5))
+    assert pts[[0, 4, 8, 12]] == pytest.approx(np.array([[2.55, 2.05], [2.05, 2.55], [1.55, 2.05],
+                                                         [2.05, 1.55]]))
+    rotated, _ = neighbour_points(BP, math.pi / 2, 0.5, 16)  # theta = 0 follows the heading
+    assert rotated[0] == pytest.approx([2.05, 2.55])
+
+
+def test_travel_and_heuristic_costs() -> None:
+    pts, theta = neighbour_points(BP, 0.0, 0.5, 16)
+    g = travel_cost(theta, 0.5)
+    assert g[[0, 4, 8, 12, 15]] == pytest.approx([0.0, math.pi / 4, math.pi / 2, math.pi / 4, math.pi / 16])
+    h = heuristic_cost(pts, GOAL_AHEAD)
+    assert h[[0, 4, 8]] == pytest.approx([1.0, math.hypot(1.5, 0.5), 2.0])
+
+
+def test_region_a_is_the_disc_of_cells_around_each_point() -> None:
+    pts, _ = neighbour_points(BP, 0.0, 0.5, 16)
+    rows, cols, member = region_cells(FRAME, pts, 0.25)
+    assert member.sum(axis=1)[[0, 4, 8, 12]].tolist() == [A_CELLS] * 4
+    _, pmt = grids()
+    pmt[20, 25] = 7  # P0's own cell
+    pmt[22, 25] = 3  # 0.2 m from P0: inside A
+    pmt[23, 25] = 100  # 0.3 m from P0: outside A
+    ipt = intensity_of_trajectory(pmt, FRAME, rows, cols, member)
+    assert ipt[0] == pytest.approx(10.0)
+    assert ipt[8] == pytest.approx(0.0)
+
+
+def test_ipo_sums_obstacle_evidence_or_raw_pmo() -> None:
+    pts, _ = neighbour_points(BP, 0.0, 0.5, 16)
+    rows, cols, member = region_cells(FRAME, pts, 0.25)
+    pmo, _ = grids(pmo=50)
+    pmo[20, 26] = 100  # evidence 100
+    pmo[21, 25] = 75  # evidence 50
+    pmo[19, 25] = 20  # free: evidence 0
+    evidence = intensity_of_obstacles(pmo, FRAME, rows, cols, member, "evidence")
+    raw = intensity_of_obstacles(pmo, FRAME, rows, cols, member, "raw")
+    assert evidence[0] == pytest.approx(150.0)
+    assert raw[0] == pytest.approx(18 * 50 + 100 + 75 + 20)
+    assert evidence[8] == pytest.approx(0.0) and raw[8] == pytest.approx(A_CELLS * 50)
+
+
+def test_region_cells_outside_the_grid_count_as_unknown_and_unvisited() -> None:
+    frame = GridFrame.from_bounds((0.0, 0.0, 1.0, 1.0), 0.1)
+    pts = np.array([[0.05, 0.05]])  # a corner cell: most of A lies outside
+    rows, cols, member = region_cells(frame, pts, 0.25)
+    pmo = np.zeros(frame.shape, dtype=np.uint8)
+    inside = 8  # cells (i, j) >= 0 with i^2 + j^2 <= 6.25
+    assert intensity_of_obstacles(pmo, frame, rows, cols, member, "raw")[0] == \
+        pytest.approx((A_CELLS - inside) * 50)
+    assert intensity_of_obstacles(pmo, frame, rows, cols, member, "evidence")[0] == 0
+    assert intensity_of_trajectory(np.ones(frame.shape), frame, rows, cols, member)[0] == inside
+
+
+def test_f_adds_the_raw_terms_with_unit_weights() -> None:
+    pmo, pmt = grids(pmo=50)
+    pmo[20, 26] = 100
+    pmt[20, 25] = 7
+    pmt[22, 25] = 3
+    d = decide(pmo, pmt, exclude_blocked_segments=False)
+    assert (d.G[0], d.H[0], d.IPO[0], d.IPT[0]) == pytest.approx((0.0, 1.0, 100.0, 10.0))
+    assert (d.RC[0], d.RI[0], d.r[0]) == (50, 50, 50)
+    assert d.F[0] == pytest.approx(0.0 + 1.0 + 100.0 + 10.0 + 50.0)
+    weighted = decide(pmo, pmt, exclude_blocked_segments=False, w_g=2, w_h=3, w_ipo=0.5, w_ipt=0.1, w_r=0)
+    assert weighted.F[4] == pytest.approx(2 * math.pi / 4 + 3 * math.hypot(1.5, 0.5))
+
+
+def test_normalize_divides_each_term_by_its_largest_value() -> None:
+    pmo, pmt = grids(pmo=50)
+    pmo[20, 26] = 100
+    pmt[20, 25] = 7
+    pmt[22, 25] = 3
+    d = decide(pmo, pmt, exclude_blocked_segments=False, normalize=True)
+    expected = 0.0 + 1.0 / (1.5 + 0.5) + 100.0 / (A_CELLS * 100) + 10.0 / (A_CELLS * 20) + 50 / 100
+    assert d.F[0] == pytest.approx(expected)
+    scales = term_scales(PCSettings(), BP, GOAL_AHEAD, np.array([A_CELLS]))
+    assert scales["G"] == pytest.approx(0.5 * math.pi) and scales["r"] == 100
+
+
+# ------------------------------------------------------------------ selection tiers
+def test_tier_1_all_free_takes_the_straight_line() -> None:
+    d = decide(*grids())
+    assert (d.tier, d.chosen) == (1, 0) and d.turn == 0.0
+    assert np.all(d.r == 0) and np.all(d.candidate)
+
+
+def test_tier_1_takes_smallest_f_among_safe_points() -> None:
+    pmo, pmt = grids()
+    pmt[:, 23:29] = 100  # the way ahead is worn out: RI 100 and a large IPT
+    d = decide(pmo, pmt)
+    assert d.r[0] == 100 and d.r[4] == 0 and d.IPT[4] == 0
+    assert (d.tier, d.chosen) == (1, 4)  # +90 deg: ties with -90 go to the lower index (left)
+    assert d.F[4] == pytest.approx(math.pi / 4 + math.hypot(1.5, 0.5))
+
+
+def test_tier_2_takes_smallest_ri_then_smallest_f() -> None:
+    pmo, pmt = grids()
+    pmt[:] = 25  # RI 100 everywhere ...
+    pmt[20, 15] = 3  # ... but behind (theta 180) only a little visited: RI 50
+    d = decide(pmo, pmt)
+    assert not np.any(d.r == 0)
+    assert (d.tier, d.chosen) == (2, 8)  # higher F than straight ahead, but lower RI
+    pmt[25, 20] = 3  # +90 deg also RI 50, and its F is lower than behind
+    d = decide(pmo, pmt)
+    assert (d.tier, d.chosen) == (2, 4) and d.F[4] < d.F[8]
+
+
+def test_tier_2_accepts_a_high_iteration_risk_in_extreme_cases() -> None:
+    # every neighbour visited too often, all free; IPT off so F is G + H + r
+    d = decide(*grids(pmt=25), w_ipt=0)
+    assert np.all(d.RI == 100)
+    assert (d.tier, d.chosen) == (2, 0)
+
+
+def test_tier_2_needs_rc_below_beta() -> None:
+    pmo, pmt = grids(pmo=50, pmt=25)  # all unknown (RC 50) and worn (RI 100)
+    assert decide(pmo, pmt, exclude_blocked_segments=False).tier == 2
+    d = decide(pmo, pmt, exclude_blocked_segments=False, beta_I=50)
+    assert (d.tier, d.chosen) == (3, None)
+
+
+def test_tier_3_blocked_keeps_heading_until_forced() -> None:
+    pmo, pmt = grids(pmo=100)
+    pmo[20, 20] = 0  # the robot's own cell
+    d = decide(pmo, pmt)
+    assert np.all(d.r == 100) and not d.candidate.any()
+    assert (d.tier, d.chosen, d.turn, d.forced) == (3, None, 0.0, False)
+    forced = decide(pmo, pmt, force=True, w_ipo=0)
+    assert (forced.tier, forced.chosen, forced.forced) == (3, 0, True)
+
+
+def test_select_neighbour_forced_prefers_candidates_then_untried() -> None:
+    r = np.array([100, 100, 100])
+    rc = np.array([100, 100, 100])
+    ri = np.zeros(3, dtype=int)
+    F = np.array([1.0, 2.0, 3.0])
+    cand = np.array([False, False, True])
+    assert select_neighbour(r, rc, ri, F, cand, 100, np.ones(3, bool), force=True) == (2, 3)
+    none = np.zeros(3, bool)
+    assert select_neighbour(r, rc, ri, F, none, 100, np.array([False, True, True]), True) == (1, 3)
+    assert select_neighbour(r, rc, ri, F, none, 100, none, True) == (0, 3)
+    assert select_neighbour(r, rc, ri, F, none, 100, none, False) == (None, 3)
+
+
+def test_a_neighbour_behind_an_occupied_cell_is_never_chosen() -> None:
+    pmo, pmt = grids()
+    pmo[18:23, 23] = 100  # a short wall 0.3 m ahead, across the three forward segments
+    d = decide(pmo, pmt, w_ipo=0)  # IPO off: only the segment rule keeps the robot off it
+    assert d.RC[[0, 1, 15]].tolist() == [0, 0, 0]  # the points themselves look free ...
+    assert not d.candidate[[0, 1, 15]].any()  # ... but the robot cannot get there
+    assert d.candidate[[2, 14]].all()
+    assert d.chosen in (2, 14)
+    for goal in ([3.55, 2.05], [3.0, 2.4], [3.0, 1.7], [2.6, 2.1]):
+        assert decide(pmo, pmt, goal=np.array(goal), w_ipo=0).chosen not in (0, 1, 15), goal
+    assert decide(pmo, pmt, w_ipo=0, exclude_blocked_segments=False).chosen == 0
+
+
+def test_neighbours_beyond_the_map_are_not_candidates() -> None:
+    pmo, pmt = grids()
+    d = choose_neighbour(pmo, pmt, FRAME, np.array([3.75, 2.05]), 0.0, np.array([5.0, 2.05]),
+                         PCSettings())
+    assert d.RC[0] == 100 and not d.candidate[0]  # (4.25, 2.05) is outside the 4 m grid
+    assert d.chosen not in (0, 1, 15)
+
+
+def test_points_already_tried_are_not_candidates() -> None:
+    pmo, pmt = grids()
+    first = decide(pmo, pmt)
+    again = decide(pmo, pmt, tried=[first.points[first.chosen]])
+    assert not again.candidate[first.chosen] and again.tried.sum() == 1
+    assert again.chosen != first.chosen
+
+
+def test_event_data_is_plain_json() -> None:
+    d = decide(*grids())
+    data = json.loads(json.dumps(d.event_data()))
+    assert len(data["neighbours"]) == 16 and len(data["risk"]) == 16
+    assert data["chosen"] == 0 and data["tier"] == 1 and data["candidate"] == [True] * 16
+
+
+# ------------------------------------------------------------------ EO
+def test_eo_speed_ramp_at_and_between_the_thresholds() -> None:
+    v = lambda d, v_min=0.0: eo_speed(d, 0.5, 0.8, 0.35, v_min)  # noqa: E731
+    assert v(2.0) == 0.5 and v(0.8) == 0.5
+    assert v(0.575) == pytest.approx(0.25)  # half way: half speed
+    assert v(0.44) == pytest.approx(0.1)
+    assert v(0.35) == 0.0 and v(0.349) == 0.0
+    assert v(0.36, v_min=0.05) == pytest.approx(0.05)  # the floor that lets the robot reach lambda2
+    assert v(0.349, v_min=0.05) == 0.0
+
+
+def test_front_distance_is_measured_from_the_robot_centre() -> None:
+    robot = default_robot()  # sonars on the body edge, 0.2 m from the centre
+    front = front_sonars(robot.sonar, math.radians(100))
+    assert front.tolist() == [False, True, True, True, True, False]
+    ranges = np.array([0.1, 1.0, 0.5, 0.6, 3.0, 0.05])
+    assert front_distance(ranges, robot.sonar, front) == pytest.approx(0.7)
+    assert front_sonars(robot.sonar, math.radians(20)).tolist() == [False] * 6
+
+
+# ------------------------------------------------------------------ the planner loop
+def observation(pose, ranges, goal=(8.0, 2.0), t=0.0) -> Observation:
+    return Observation(t=t, pose=np.asarray(pose, dtype=float), goal=np.asarray(goal, dtype=float),
+                       ranges=np.asarray(ranges, dtype=float), robot=default_robot(),
+                       bounds=(0.0, 0.0, 10.0, 4.0), dt=0.1)
+
+
+def test_grids_are_updated_before_the_goal_check() -> None:
+    planner = EOPC()
+    obs = observation((8.05, 2.05, 0.0), [3.0] * 6)
+    planner.reset(obs, np.random.default_rng(0))
+    assert planner.act(obs) == Command(0.0, 0.0)  # at the goal: stop ...
+    state = planner.debug_state()
+    r, c = planner.pmt.world_to_cell((8.05, 2.05))
+    assert state["pmt"][r, c] == 1 and (state["pmo"] < 50).any()  # ... after mapping the cycle
+    assert state["mode"] == "goal" and state["target"] == [8.0, 2.0]
+    assert state["pmo"].dtype == np.uint8 and state["cell"] == 0.1
+    assert state["bounds"] == pytest.approx([-0.2, -0.2, 10.2, 4.2])  # world + map_margin
+
+
+def test_stop_before_a_wall_replans_and_turns_in_place_toward_pi() -> None:
+    world = BoxWorld.room((8.0, 6.0), [(4.0, 1.0, 4.15, 5.0)])
+    planner = EOPC()
+    result = run(planner, world, (1.0, 3.0, 0.0), (7.0, 3.0), time_s=14.0)
+    replans = [(t, d) for k, t, d in result.events if k == "replan"]
+    assert replans and planner.replans == len(replans)
+    t0, first = replans[0]
+    bx, by = first["breakpoint"]
+    assert 4.0 - bx == pytest.approx(0.35, abs=0.03)  # stopped at lambda2 from the wall face
+    assert by == pytest.approx(3.0, abs=0.01)
+    assert first["tier"] in (1, 2) and first["candidate"][first["chosen"]]
+    assert not first["candidate"][0]  # straight on is through the wall
+    json.dumps(first)
+    k = round(t0 / 0.1)  # commands right after the re-plan: turning on the spot
+    turn = result.commands[k:k + 5]
+    assert np.all(turn[:, 0] == 0.0)
+    assert np.all(np.sign(turn[:, 1]) == np.sign(first["theta"][first["chosen"]]))
+    assert result.collisions == 0
+
+
+def test_a_boxed_in_robot_tries_each_direction_once_then_waits_blocked() -> None:
+    """Every sonar reads 0.1 m whatever the heading: each re-plan on the spot must pick a new
+    point (no zero-motion loop on one choice), and blocked cycles are counted in between."""
+    planner = EOPC(max_blocked_cycles=2)
+    pose = np.array([5.05, 2.05, 0.0])
+    planner.reset(observation(pose, [0.1] * 6), np.random.default_rng(0))
+    for k in range(600):  # the robot can only turn: integrate yaw, keep x, y
+        cmd = planner.act(observation(pose, [0.1] * 6, t=k * 0.1))
+        assert cmd.v == 0.0
+        pose[2] = math.remainder(pose[2] + cmd.omega * 0.1, 2 * math.pi)
+    events = planner.pop_events()
+    chosen = [tuple(np.round(e.data["neighbours"][e.data["chosen"]], 2)) for e in events
+              if e.kind == "replan"]
+    assert len(chosen) >= 16
+    assert len(set(chosen[:16])) == 16  # all 16 directions, none twice
+    assert sum(e.kind == "blocked" for e in events) >= 2 * 16
+
+
+def test_parameters_and_settings() -> None:
+    assert PCSettings.from_params(EOPC().p).region_radius == pytest.approx(0.25)  # 0 means RR/2
+    assert PCSettings.from_params(EOPC(RR=0.6, region_radius=0.4).p).region_radius == 0.4
+    with pytest.raises(InputError, match="lambda"):
+        EOPC(lambda_1=0.9)
+    with pytest.raises(InputError):
+        EOPC(ipo_mode="sum")
+    with pytest.raises(PlannerError, match="lambda1 > lambda2"):
+        EOPC(lambda1=0.3).reset(observation((1, 1, 0), [3.0] * 6), np.random.default_rng(0))
+    assert all(p.unit is not None and p.doc for p in EOPC.params)
+
+
+# ------------------------------------------------------------------ escaping a dead end
+def u_pocket() -> BoxWorld:
+    """A U open toward the start: 1.0 m wide inside, arms 0.7 m long, the goal behind its
+    bottom. Driving at the goal puts the whole robot inside the U."""
+    return BoxWorld.room((8.0, 8.0), [(5.0, 3.35, 5.15, 4.65),   # bottom
+                                      (4.3, 3.35, 5.15, 3.5),    # lower arm
+                                      (4.3, 4.5, 5.15, 4.65)])   # upper arm
+
+
+def test_eopc_escapes_a_u_shaped_dead_end() -> None:
+    result = run(EOPC(), u_pocket(), (2.0, 4.0, 0.0), (7.0, 4.0), time_s=300.0)
+    inside = (result.poses[:, 0] > 4.4) & (np.abs(result.poses[:, 1] - 4.0) < 0.5)
+    assert inside.any()  # it went into the U ...
+    assert result.reached  # ... and out again, round it to the goal
+    assert result.kinds("replan") >= 3 and result.collisions == 0
+
+
+def test_goal_seek_stays_trapped_in_the_same_u() -> None:
+    result = run(GoalSeek(), u_pocket(), (2.0, 4.0, 0.0), (7.0, 4.0), time_s=60.0)
+    assert not result.reached
+    assert result.poses[-1, 0] == pytest.approx(5.0 - 0.35 - 0.0, abs=0.05)
