@@ -1,0 +1,380 @@
+"""Where episodes run: worker processes on this machine, or a Dask cluster beyond it.
+
+An executor takes the jobs still to play and yields one :class:`JobOutcome` per job as it
+finishes, in completion order. It never writes results: the runner (the parent process, or
+the Dask client) does, so a folder has exactly one writer wherever the episodes ran.
+
+Every episode runs in a worker process that can be killed: an episode that exceeds its
+wall-clock limit (``limits.wall_s``) -- a planner caught in an endless loop, a physics step
+that never returns -- is killed with its process, recorded as outcome ``error`` with the
+reason, and a fresh worker takes its place. ``concurrent.futures.ProcessPoolExecutor`` cannot
+do that (killing one of its workers breaks the whole pool), hence the small pool here: one
+process per worker slot with a pipe, reused from episode to episode (a pipe round trip costs
+well under a millisecond; starting a process with numpy and PyBullet imported costs ~0.5 s).
+
+Processes start with ``forkserver`` where available (a server process imports nav-bench once,
+then forks clean workers from it: fast, and no PyBullet client is ever forked), else ``spawn``.
+Plain ``fork`` is not used: it would copy the parent's threads and state (a Dask client, an
+open PyBullet connection) into the child.
+
+Executors are named: ``local`` (this machine, ``--workers N``), ``dask`` (a Dask LocalCluster
+on 127.0.0.1 with N worker processes) and ``dask:tcp://HOST:PORT`` (an existing scheduler);
+the Dask executor lives in :mod:`nav_bench.executors_dask`, imported only when asked for
+(importing ``distributed`` costs ~0.5 s, which every local worker would otherwise pay).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+import itertools
+import logging
+import math
+import multiprocessing
+import os
+import signal
+import sys
+import time
+import traceback
+from collections import deque
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
+from multiprocessing.connection import wait as wait_for
+from typing import Any, Protocol
+
+from nav_bench.errors import InputError, NavBenchError, UnknownNameError
+from nav_bench.suite import EpisodeJob
+
+log = logging.getLogger(__name__)
+
+EpisodeFn = Callable[[EpisodeJob], Any]  # returns an object with .row (dict) and .trace
+POLL_S = 0.2  # how often a waiting executor checks for a stop request (s)
+STARTUP_FAILURES = 3  # workers that die before they are ready, in a row, before giving up
+# imported once by the forkserver (its workers start with them loaded); nothing that prints
+PRELOAD = ("numpy", "nav_bench.episode", "nav_bench.optimal")
+# imported by each worker before it is ready (imports must not eat an episode's wall_s)
+WORKER_IMPORTS = ("nav_bench.episode", "nav_bench.optimal")
+# imported with C-level output silenced: PyBullet prints a build banner to stderr at import,
+# once per worker, through the middle of the progress bar
+QUIET_IMPORTS = ("nav_bench.sim.simulation",)
+
+
+class ExecutorError(NavBenchError):
+    """An executor could not run at all (workers that cannot start, no scheduler)."""
+
+
+# --------------------------------------------------------------------------- jobs on a worker
+@dataclass
+class JobOutcome:
+    """What a worker sends back: the finished row and the trace (None when the episode failed
+    before it had one)."""
+
+    job_id: str
+    row: dict[str, Any]
+    trace: Any | None
+
+
+def run_job(job: EpisodeJob) -> Any:
+    """The real episode function: play ``job`` with :func:`nav_bench.episode.run_episode`."""
+    from nav_bench.episode import EpisodeSettings, run_episode
+
+    return run_episode(job.world, job.planner, seed=job.seed, robot=job.robot,
+                       settings=EpisodeSettings(**job.settings), world_file=job.world_file)
+
+
+def error_row(job: EpisodeJob, error: str, wall_s: float) -> dict[str, Any]:
+    """The row of an episode that did not finish: outcome ``error``, measured fields null."""
+    return {
+        "world": job.world_name, "world_file": job.world_file, "planner": job.planner.planner,
+        "params": job.params, "params_id": job.params_id, "seed": job.seed,
+        "success": False, "outcome": "error", "time_s": None, "path_length_m": None,
+        "optimal_length_m": None, "spl": 0.0, "replans": None, "collisions": None,
+        "min_clearance_m": None, "wall_s": wall_s, "settings": job.settings, "events": {},
+        "error": error,
+    }
+
+
+def finish_row(row: dict[str, Any], job: EpisodeJob) -> dict[str, Any]:
+    """The row as stored: the job's identity first, then the episode's fields."""
+    out: dict[str, Any] = {"job_id": job.job_id, "label": job.label}
+    out.update(row)
+    out["world_file"] = job.world_file
+    out["robot"] = job.robot_label  # the variant label ("diffbot[sonar.noise_std=0.02]")
+    out["robot_id"] = row.get("robot_id") or job.robot_id
+    limit = job.settings.get("time_s")
+    if limit is None:  # the episode's default limit scales with the world's size
+        from nav_bench.episode import EpisodeSettings
+
+        limit = EpisodeSettings(**job.settings).time_limit(job.world)
+    out["time_limit_s"] = float(limit)
+    return out
+
+
+def execute_job(job: EpisodeJob, episode_fn: EpisodeFn) -> JobOutcome:
+    """Play one job; any exception becomes an ``error`` row with its traceback."""
+    t0 = time.perf_counter()
+    try:
+        result = episode_fn(job)
+        row, trace = dict(result.row), result.trace
+    except Exception:
+        row = error_row(job, traceback.format_exc(), time.perf_counter() - t0)
+        trace = None
+    return JobOutcome(job.job_id, finish_row(row, job), trace)
+
+
+def timeout_outcome(job: EpisodeJob, waited_s: float) -> JobOutcome:
+    message = (f"episode exceeded the wall-clock limit of {job.wall_s:g} s (limits.wall_s) and "
+               f"its worker process was killed")
+    return JobOutcome(job.job_id, finish_row(error_row(job, message, waited_s), job), None)
+
+
+def died_outcome(job: EpisodeJob, exitcode: int | None, waited_s: float) -> JobOutcome:
+    how = f"exit code {exitcode}"
+    if exitcode is not None and exitcode < 0:
+        with contextlib.suppress(ValueError):
+            how = f"signal {signal.Signals(-exitcode).name}"
+    message = f"the worker process died ({how}) while playing this episode"
+    return JobOutcome(job.job_id, finish_row(error_row(job, message, waited_s), job), None)
+
+
+@contextlib.contextmanager
+def _c_output_silenced() -> Iterator[None]:
+    """Point file descriptors 1 and 2 at /dev/null: C libraries write there directly."""
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        saved = [os.dup(1), os.dup(2)]
+    except (OSError, ValueError, AttributeError):  # no real stdout/stderr: nothing to silence
+        yield
+        return
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 1)
+            os.dup2(null.fileno(), 2)
+        yield
+    finally:
+        for fd, copy in zip((1, 2), saved, strict=True):
+            os.dup2(copy, fd)
+            os.close(copy)
+
+
+def _worker_main(conn: Any, imports: Sequence[str]) -> None:
+    """A worker process: play jobs from ``conn`` until it closes or sends None."""
+    # Ctrl-C in a terminal reaches the whole process group; the parent decides what stops
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for module in imports:  # a module that fails here fails again, with its traceback, in
+        with contextlib.suppress(ImportError):  # the episode's error row
+            importlib.import_module(module)
+    with _c_output_silenced():
+        for module in QUIET_IMPORTS:
+            with contextlib.suppress(ImportError):
+                importlib.import_module(module)
+    conn.send(("ready", os.getpid()))
+    while True:
+        try:
+            message = conn.recv()
+        except (EOFError, OSError):  # the parent is gone
+            return
+        if message is None:
+            return
+        job, episode_fn = message
+        outcome = execute_job(job, episode_fn)
+        try:
+            conn.send(outcome)
+        except (BrokenPipeError, EOFError, OSError):
+            return
+        except Exception:  # the trace or row would not pickle: keep the row, say why
+            outcome.row["trace_error"] = traceback.format_exc()
+            conn.send(JobOutcome(outcome.job_id, outcome.row, None))
+
+
+# --------------------------------------------------------------------------- one worker
+def default_start_method() -> str:
+    return "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
+
+
+class WorkerProcess:
+    """One worker process and its pipe; plays one job at a time; can be killed."""
+
+    def __init__(self, ctx: Any, name: str, imports: Sequence[str] = WORKER_IMPORTS) -> None:
+        self.conn, child = ctx.Pipe(duplex=True)
+        self.process = ctx.Process(target=_worker_main, args=(child, tuple(imports)), name=name,
+                                   daemon=True)
+        self.process.start()
+        child.close()
+        self.ready = False
+        self.dead = False
+        self.job: EpisodeJob | None = None
+        self.sent_at = 0.0
+
+    @property
+    def idle(self) -> bool:
+        return self.ready and not self.dead and self.job is None
+
+    def send(self, job: EpisodeJob, episode_fn: EpisodeFn) -> None:
+        self.job, self.sent_at = job, time.monotonic()
+        self.conn.send((job, episode_fn))
+
+    def deadline(self) -> float:
+        if self.job is None or self.job.wall_s is None:
+            return math.inf
+        return self.sent_at + self.job.wall_s
+
+    def waitables(self) -> list[Any]:
+        return [] if self.dead else [self.conn, self.process.sentinel]
+
+    def collect(self, now: float) -> JobOutcome | None:
+        """Read what the worker sent; detect death and overrun. Returns a finished outcome."""
+        if self.dead:
+            return None
+        try:
+            message = self.conn.recv() if self.conn.poll() else None
+        except (EOFError, OSError):  # the worker closed its end: it is exiting
+            message = None
+            self.process.join(1.0)
+        if isinstance(message, tuple) and message[:1] == ("ready",):
+            self.ready = True
+            return None
+        if isinstance(message, JobOutcome):
+            self.job = None
+            return message
+        if not self.process.is_alive():
+            self.dead = True
+            job, self.job = self.job, None
+            return None if job is None else died_outcome(job, self.process.exitcode,
+                                                         now - self.sent_at)
+        if self.job is not None and now >= self.deadline():
+            job, self.job = self.job, None
+            self.kill()
+            return timeout_outcome(job, now - self.sent_at)
+        return None
+
+    def kill(self) -> None:
+        self.dead = True
+        with contextlib.suppress(Exception):
+            self.process.kill()
+            self.process.join(5.0)
+        self.conn.close()
+
+    def stop(self) -> None:
+        """Ask the worker to finish, kill it if it does not."""
+        if self.dead:
+            return
+        with contextlib.suppress(Exception):
+            self.conn.send(None)
+            self.process.join(2.0)
+        self.kill()
+
+    def run(self, job: EpisodeJob, episode_fn: EpisodeFn) -> JobOutcome:
+        """Play one job to its end, blocking (used inside Dask tasks)."""
+        while not self.ready:
+            wait_for(self.waitables(), 5.0)
+            self.collect(time.monotonic())
+            if self.dead:
+                raise ExecutorError(f"worker process failed to start (exit code "
+                                    f"{self.process.exitcode})")
+        self.send(job, episode_fn)
+        while True:
+            timeout = self.deadline() - time.monotonic()
+            wait_for(self.waitables(), None if math.isinf(timeout) else max(0.0, timeout))
+            outcome = self.collect(time.monotonic())
+            if outcome is not None:
+                return outcome
+
+
+# --------------------------------------------------------------------------- executors
+class Executor(Protocol):
+    """Runs jobs and yields outcomes as they finish."""
+
+    def describe(self) -> dict[str, Any]: ...
+
+    def run(self, jobs: Sequence[EpisodeJob], episode_fn: EpisodeFn, *,
+            should_stop: Callable[[], bool]) -> Iterator[JobOutcome]: ...
+
+
+class LocalPool:
+    """Episodes on ``workers`` processes of this machine (default: one per CPU core)."""
+
+    def __init__(self, workers: int | None = None, start_method: str | None = None,
+                 preload: Sequence[str] = PRELOAD) -> None:
+        if workers is not None and workers < 1:
+            raise InputError(f"--workers must be at least 1, got {workers}")
+        self.workers = workers or os.cpu_count() or 1
+        self.start_method = start_method or default_start_method()
+        self.preload = tuple(preload)
+
+    def describe(self) -> dict[str, Any]:
+        return {"name": "local", "workers": self.workers, "start_method": self.start_method}
+
+    def _context(self) -> Any:
+        ctx = multiprocessing.get_context(self.start_method)
+        if self.start_method == "forkserver":
+            # takes effect when the server starts (once per process); later calls are no-ops
+            ctx.set_forkserver_preload(list(self.preload))
+        return ctx
+
+    def run(self, jobs: Sequence[EpisodeJob], episode_fn: EpisodeFn, *,
+            should_stop: Callable[[], bool] = lambda: False) -> Iterator[JobOutcome]:
+        if not jobs:
+            return
+        ctx = self._context()
+        queue = deque(jobs)
+        count = min(self.workers, len(jobs))
+        names = (f"nav-bench-worker-{i}" for i in itertools.count())
+        workers = [WorkerProcess(ctx, next(names)) for _ in range(count)]
+        failed_starts = 0
+        try:
+            while queue or any(w.job is not None for w in workers):
+                if should_stop():
+                    return
+                for w in workers:
+                    if w.idle and queue:
+                        w.send(queue.popleft(), episode_fn)
+                deadline = min((w.deadline() for w in workers), default=math.inf)
+                timeout = min(POLL_S, max(0.0, deadline - time.monotonic()))
+                wait_for([x for w in workers for x in w.waitables()], timeout)
+                now = time.monotonic()
+                for i, w in enumerate(workers):
+                    was_ready = w.ready
+                    outcome = w.collect(now)
+                    if outcome is not None:
+                        yield outcome
+                    if w.dead:
+                        failed_starts = 0 if was_ready else failed_starts + 1
+                        if failed_starts >= STARTUP_FAILURES:
+                            raise ExecutorError(
+                                f"{failed_starts} worker processes died while starting (last "
+                                f"exit code {w.process.exitcode}); see the messages above")
+                        if queue:
+                            workers[i] = WorkerProcess(ctx, next(names))
+                    elif w.ready and not was_ready:
+                        failed_starts = 0
+                workers = [w for w in workers if not (w.dead and not queue)]
+        finally:
+            for w in workers:
+                if should_stop():
+                    w.kill()  # in-flight episodes are dropped; a resume plays them again
+                else:
+                    w.stop()
+
+
+EXECUTORS = ("local", "dask")
+
+
+def make_executor(spec: str, workers: int | None = None) -> Executor:
+    """``local``, ``dask`` or ``dask:tcp://HOST:PORT``; unknown names get a did-you-mean."""
+    name, _, arg = spec.partition(":")
+    if name not in EXECUTORS:
+        raise UnknownNameError("executor", name, EXECUTORS)
+    if name == "local":
+        if arg:
+            raise InputError(f"the local executor takes no address, got {spec!r}")
+        return LocalPool(workers)
+    try:
+        from nav_bench.executors_dask import DaskExecutor
+    except ModuleNotFoundError as exc:
+        if (exc.name or "").split(".")[0] not in ("dask", "distributed"):
+            raise
+        raise InputError("the dask executor needs the 'distributed' package: "
+                         "pip install 'nav-bench[dask]'") from None
+    return DaskExecutor(workers, address=arg or None)

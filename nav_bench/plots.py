@@ -1,0 +1,201 @@
+"""Report figures (PNG, matplotlib Agg), drawn from stored rows and traces only.
+
+* :func:`success_and_spl`: success rate and mean SPL per world and parameter set, grouped
+  bars with 95% interval whiskers (Wilson for success, bootstrap for SPL);
+* :func:`success_within_time`: share of episodes that reached the goal within T simulated
+  seconds, T from 0 to the time limit, one curve per parameter set;
+* :func:`trajectories`: for one world, the true trajectories of every parameter set over the
+  true map.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+if TYPE_CHECKING:
+    from nav_bench.report import GroupStats, Run
+    from nav_bench.specs import WorldSpec
+
+DPI = 110
+
+
+def _colors(n: int) -> list[Any]:
+    cmap = plt.get_cmap("tab10" if n <= 10 else "tab20")
+    return [cmap(i % cmap.N) for i in range(n)]
+
+
+def success_and_spl(per_world: dict[str, list[GroupStats]], overall: Sequence[GroupStats],
+                    order: Sequence[str], path: Path) -> Path:
+    """Grouped bars: one group per world (and "all worlds"), one bar per parameter set."""
+    groups = [*per_world.items(), ("all worlds", list(overall))]
+    colors = dict(zip(order, _colors(len(order)), strict=True))
+    width = 0.8 / max(1, len(order))
+    fig_w = min(24.0, max(6.0, 2.5 + 0.35 * len(groups) * max(2, len(order))) + 2.0)
+    fig, axes = plt.subplots(2, 1, figsize=(fig_w, 6.5), sharex=True)
+    for ax, what in zip(axes, ("success", "spl"), strict=True):
+        for j, name in enumerate(order):
+            xs, ys, lo, hi = [], [], [], []
+            for i, (_, stats) in enumerate(groups):
+                g = next((s for s in stats if s.set == name), None)
+                if g is None or math.isnan(getattr(g, what)):
+                    continue
+                value, ci = (g.success, g.success_ci) if what == "success" else (g.spl, g.spl_ci)
+                xs.append(i - 0.4 + width * (j + 0.5))
+                ys.append(value)
+                lo.append(max(0.0, value - ci[0]) if not math.isnan(ci[0]) else 0.0)
+                hi.append(max(0.0, ci[1] - value) if not math.isnan(ci[1]) else 0.0)
+            ax.bar(xs, ys, width=width * 0.95, color=colors[name], label=name,
+                   yerr=[lo, hi], capsize=2, error_kw={"lw": 0.8, "alpha": 0.8})
+        ax.set_ylim(0, 1.05)
+        ax.set_ylabel("success rate" if what == "success" else "SPL (mean)")
+        ax.grid(axis="y", alpha=0.3)
+        ax.axvline(len(groups) - 1.5, color="grey", lw=0.6, ls=":")
+    axes[1].set_xticks(range(len(groups)))
+    axes[1].set_xticklabels([w for w, _ in groups], rotation=30 if len(groups) > 6 else 0,
+                            ha="right" if len(groups) > 6 else "center")
+    axes[0].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    axes[1].set_title("whiskers: 95% intervals, Wilson (success) and bootstrap (SPL)",
+                      fontsize=8, loc="left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def success_within_time(rows: Sequence[dict[str, Any]], order: Sequence[str],
+                        path: Path) -> Path | None:
+    """Share of each set's episodes that reached the goal within T, for T up to the limit."""
+    from nav_bench.report import share_reached_within
+
+    limits = [r.get("time_limit_s") or (r.get("settings") or {}).get("time_s") for r in rows]
+    times = [r.get("time_s") for r in rows if r.get("time_s") is not None]
+    horizon = max([x for x in limits if x] or times or [0.0])
+    if horizon <= 0:
+        return None
+    t = np.linspace(0.0, horizon, 400)
+    fig, ax = plt.subplots(figsize=(7.0, 4.2))
+    for name, color in zip(order, _colors(len(order)), strict=True):
+        mine = [r for r in rows if r["set"] == name]
+        share = share_reached_within(mine, t)
+        ax.step(t, share, where="post", color=color, label=f"{name} (n={len(mine)})")
+    ax.set_xlim(0, horizon)
+    ax.set_ylim(0, 1.02)
+    ax.set_xlabel("time budget T (simulated s)")
+    ax.set_ylabel("share reached within T")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def _without_nulls(value: Any) -> Any:
+    """Drop null-valued keys (a dumped obstacle carries its unused kinds as null)."""
+    if isinstance(value, dict):
+        return {k: _without_nulls(v) for k, v in value.items() if v is not None}
+    if isinstance(value, list):
+        return [_without_nulls(v) for v in value]
+    return value
+
+
+def trace_path(run: Run, row: dict[str, Any]) -> Path:
+    """Where a row's trace lies in its results folder."""
+    rel = row.get("trace") or f"traces/{row.get('job_id')}.npz"
+    return run.folder / rel
+
+
+def load_trajectory(path: Path) -> np.ndarray | None:
+    """(T, 2) true positions from a stored trace, or None if it is missing or unreadable."""
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            return np.asarray(data["true_pose"], dtype=float)[:, :2]
+    except (OSError, KeyError, ValueError):
+        return None
+
+
+def world_of(rows: Sequence[dict[str, Any]], runs: Sequence[Run]) -> WorldSpec | None:
+    """The true map of the rows' world: from a stored trace, else from the row's world_file."""
+    from nav_bench.specs import WorldSpec, load_world
+
+    by_name = {run.name: run for run in runs}
+    for row in rows:
+        run = by_name[row["run"]]
+        try:
+            with np.load(trace_path(run, row), allow_pickle=False) as data:
+                meta = json.loads(str(data["meta"]))
+            return WorldSpec.model_validate(_without_nulls(meta["world"]))
+        except Exception:  # no trace, an older format: try the world file
+            continue
+    for row in rows:
+        run = by_name[row["run"]]
+        file = row.get("world_file")
+        if not file:
+            continue
+        cwd = Path((run.meta.get("suite") or {}).get("cwd") or ".")
+        for candidate in (Path(file), cwd / file):
+            if candidate.is_file():
+                try:
+                    return load_world(candidate)
+                except Exception:
+                    break
+    return None
+
+
+def trajectories(world_name: str, rows: Sequence[dict[str, Any]], runs: Sequence[Run],
+                 order: Sequence[str], path: Path) -> Path | None:
+    """Every episode's true path on ``world_name``, coloured by parameter set, over the map.
+
+    Ends are marked: a dot for reached, a cross for anything else. None if no trace exists.
+    """
+    from nav_bench.world.draw import draw_world
+
+    by_name = {run.name: run for run in runs}
+    paths = []
+    for row in rows:
+        xy = load_trajectory(trace_path(by_name[row["run"]], row))
+        if xy is not None and len(xy):
+            paths.append((row, xy))
+    if not paths:
+        return None
+    world = world_of(rows, runs)
+    if world is not None:
+        sx, sy = world.size
+    else:
+        allxy = np.concatenate([xy for _, xy in paths])
+        sx, sy = float(allxy[:, 0].max()) + 0.5, float(allxy[:, 1].max()) + 0.5
+    scale = 6.5 / max(sx, sy)
+    fig, ax = plt.subplots(figsize=(max(3.5, sx * scale) + 2.6, max(3.0, sy * scale) + 0.6))
+    if world is not None:
+        draw_world(ax, world, faint=True)
+    colors = dict(zip(order, _colors(len(order)), strict=True))
+    shown: set[str] = set()
+    for row, xy in paths:
+        name = row["set"]
+        color = colors.get(name, "black")
+        ax.plot(xy[:, 0], xy[:, 1], color=color, lw=1.0, alpha=0.75, zorder=3,
+                label=None if name in shown else name)
+        shown.add(name)
+        ax.plot(xy[-1, 0], xy[-1, 1], marker="o" if row.get("success") else "x", ms=5,
+                color=color, zorder=4, ls="none")
+    ax.set_aspect("equal")
+    ax.set_title(f"{world_name}: true trajectories (o reached, x not)", fontsize=10)
+    handles, labels = ax.get_legend_handles_labels()
+    keep = [(h, lab) for h, lab in zip(handles, labels, strict=True) if lab in colors]
+    if keep:
+        ax.legend(*zip(*keep, strict=True), fontsize=8, loc="upper left",
+                  bbox_to_anchor=(1.01, 1.0), frameon=False)
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path

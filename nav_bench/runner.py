@@ -1,0 +1,324 @@
+"""``nav-bench run``: play a suite's episodes on an executor and keep every result.
+
+:func:`run_suite` expands the suite (:mod:`nav_bench.suite`), runs the episodes not yet done
+on an executor (:mod:`nav_bench.executors`) and stores each row and trace as it arrives
+(:mod:`nav_bench.store`). Guarantees:
+
+* results are never lost: each row is fsync'ed before the next is awaited; ``kill -9`` of the
+  runner loses at most the episodes in flight, and ``--resume DIR`` plays exactly the missing
+  ones (a half-written last line is reported and cut away first);
+* Ctrl-C (SIGINT) or SIGTERM stops cleanly: no new episodes start, the folder is left
+  valid, run.json says ``interrupted``, and :class:`RunInterrupted` tells how to resume;
+* an episode that raises, hangs past ``limits.wall_s`` or kills its worker becomes an
+  ``error`` row with the reason, and the batch goes on.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime as dt
+import os
+import platform
+import signal
+import subprocess
+import sys
+import threading
+from collections.abc import Iterator
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+from nav_bench import __version__
+from nav_bench.errors import InputError, NavBenchError
+from nav_bench.executors import EpisodeFn, JobOutcome, make_executor, run_job
+from nav_bench.store import ResultsStore
+from nav_bench.suite import (
+    EpisodeJob,
+    Suite,
+    default_suite_file,
+    describe,
+    expand,
+    load_suite,
+    suite_from_data,
+    with_world_files,
+)
+
+RUN_FORMAT = 1
+
+
+class RunInterrupted(NavBenchError):
+    """The run was stopped by Ctrl-C or SIGTERM; the folder is valid and can be resumed."""
+
+    exit_code = 130  # the shell's convention for "ended by SIGINT"
+
+    def __init__(self, folder: Path, done: int, total: int) -> None:
+        self.folder, self.done, self.total = folder, done, total
+        super().__init__(f"interrupted: {done} of {total} episodes are stored in {folder}; "
+                         f"finish with: nav-bench run --resume {folder}")
+
+
+# --------------------------------------------------------------------------- stop requests
+class _StopRequests:
+    """SIGINT/SIGTERM set a flag instead of raising, so no write is ever cut in half.
+
+    A second signal raises KeyboardInterrupt at once (the user insists)."""
+
+    def __init__(self) -> None:
+        self.requested = False
+        self._previous: dict[int, Any] = {}
+
+    def _handle(self, signum: int, frame: Any) -> None:
+        if self.requested:
+            raise KeyboardInterrupt
+        self.requested = True
+
+    def __call__(self) -> bool:
+        return self.requested
+
+    def __enter__(self) -> _StopRequests:
+        if threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self._previous[sig] = signal.signal(sig, self._handle)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        for sig, handler in self._previous.items():
+            signal.signal(sig, handler)
+
+
+# --------------------------------------------------------------------------- progress
+class _Progress:
+    """A tqdm bar: done/total, successes and errors so far, elapsed and remaining time."""
+
+    def __init__(self, total: int, done_rows: list[dict[str, Any]], desc: str,
+                 enabled: bool) -> None:
+        from tqdm import tqdm
+
+        self.ok = sum(1 for r in done_rows if r.get("success"))
+        self.errors = sum(1 for r in done_rows if r.get("outcome") == "error")
+        self.bar = tqdm(total=total, initial=len(done_rows), desc=desc, unit="ep",
+                        disable=not enabled, file=sys.stderr, dynamic_ncols=True)
+        self._postfix()
+
+    def _postfix(self) -> None:
+        self.bar.set_postfix_str(f"reached {self.ok}, errors {self.errors}", refresh=False)
+
+    def update(self, row: dict[str, Any]) -> None:
+        self.ok += bool(row.get("success"))
+        self.errors += row.get("outcome") == "error"
+        self._postfix()
+        self.bar.update(1)
+
+    def close(self) -> None:
+        self.bar.close()
+
+
+# --------------------------------------------------------------------------- environment
+def _version(dist: str) -> str | None:
+    try:
+        return metadata.version(dist)
+    except metadata.PackageNotFoundError:
+        return None
+
+
+def git_state() -> dict[str, Any] | None:
+    """Commit and dirtiness of the source tree nav-bench runs from, if it is a git checkout."""
+    root = Path(__file__).resolve().parent.parent
+    if not (root / ".git").exists():
+        return None
+    try:
+        commit = subprocess.run(["git", "-C", str(root), "rev-parse", "HEAD"], capture_output=True,
+                                text=True, timeout=10, check=True).stdout.strip()
+        status = subprocess.run(["git", "-C", str(root), "status", "--porcelain",
+                                 "--untracked-files=no"], capture_output=True, text=True,
+                                timeout=10, check=True).stdout
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return {"commit": commit, "dirty": bool(status.strip())}
+
+
+def environment() -> dict[str, Any]:
+    """What produced the results: versions, host, interpreter."""
+    import numpy
+
+    return {
+        "nav_bench": __version__,
+        "git": git_state(),
+        "host": platform.node(),
+        "platform": platform.platform(),
+        "python": platform.python_version(),
+        "pybullet": _version("pybullet"),
+        "numpy": numpy.__version__,
+    }
+
+
+def _now() -> str:
+    return dt.datetime.now(dt.timezone.utc).astimezone().isoformat(timespec="seconds")
+
+
+# --------------------------------------------------------------------------- the run
+def _new_folder(suite: Suite, out: Path | None) -> Path:
+    if out is not None:
+        return Path(out)
+    stamp = dt.datetime.now().strftime("%Y%m%d-%H%M%S")
+    folder = Path("results") / f"{suite.name}-{stamp}"
+    n = 1
+    while folder.exists():  # two runs started within the same second
+        n += 1
+        folder = Path("results") / f"{suite.name}-{stamp}-{n}"
+    return folder
+
+
+def _suite_of_run(meta: dict[str, Any], folder: Path) -> Suite:
+    stored = meta.get("suite") or {}
+    if "data" not in stored:
+        raise InputError(f"{folder / 'run.json'} does not hold the suite it ran; cannot resume")
+    return suite_from_data(stored["data"], file=stored.get("file"), cwd=stored.get("cwd"))
+
+
+def _check_same_jobs(stored: list[str], jobs: list[EpisodeJob], folder: Path, why: str) -> None:
+    new = {j.job_id for j in jobs}
+    old = set(stored)
+    if new != old:
+        changed = sorted(new ^ old)
+        raise InputError(f"cannot resume {folder}: {why} ({len(changed)} episodes differ, e.g. "
+                         f"{changed[0]}); start a new run instead")
+
+
+def _write_generated_worlds(suite: Suite, store: ResultsStore) -> dict[str, str]:
+    """Generated worlds go into the results folder, so every row's world_file exists."""
+    files = {}
+    for world in suite.worlds:
+        if world.file is None:
+            from nav_bench.world.generate import write_world_yaml
+
+            path = store.world_path(world.name)
+            path.parent.mkdir(parents=True, exist_ok=True)
+            write_world_yaml(world.spec.model_dump(mode="json", by_alias=True,
+                                                   exclude_defaults=True), path)
+            files[world.name] = str(path)
+    return files
+
+
+def _store_outcome(store: ResultsStore, outcome: JobOutcome) -> dict[str, Any]:
+    """Trace first (atomically), then the row: a stored row always has its trace."""
+    row = outcome.row
+    row["trace"] = None
+    if outcome.trace is not None:
+        path = store.trace_path(outcome.job_id)
+        tmp = path.with_name(f".{path.name}.tmp")
+        try:
+            outcome.trace.save(tmp)
+            os.replace(tmp, path)
+            row["trace"] = f"{path.parent.name}/{path.name}"
+        except Exception as exc:  # a trace that cannot be written must not cost the row
+            tmp.unlink(missing_ok=True)
+            row["trace_error"] = f"{type(exc).__name__}: {exc}"
+    store.append(row)
+    return row
+
+
+def run_suite(suite_path: str | Path | None, *, workers: int | None = None,
+              out: Path | None = None, resume: Path | None = None, executor: str = "local",
+              progress: bool = True, episode_fn: EpisodeFn = run_job) -> Path:
+    """Run a suite (default: ``configs/suites/default.yaml``); returns the results folder.
+
+    Args:
+        suite_path: the suite YAML; with ``resume``, optional (if given it must expand to the
+            same episodes as the stored one).
+        workers: parallel episodes (default: CPU cores; for ``dask``, the LocalCluster size).
+        out: results folder (default ``results/<suite>-<YYYYmmdd-HHMMSS>``); must not hold a run.
+        resume: a results folder to finish: plays only the episodes without a row.
+        executor: ``local``, ``dask`` or ``dask:tcp://HOST:PORT``.
+        progress: show a progress bar on stderr.
+        episode_fn: plays one :class:`~nav_bench.suite.EpisodeJob` (for tests and benchmarks;
+            must be importable by worker processes).
+    Raises:
+        InputError: bad suite, executor or folder (nothing simulated).
+        RunInterrupted: Ctrl-C or SIGTERM; the folder is valid and resumable.
+
+    Worker processes start by ``forkserver`` or ``spawn``, which import the calling script
+    again: a script that calls ``run_suite`` needs the ``if __name__ == "__main__":`` guard.
+    """
+    runner = make_executor(executor, workers)  # an unknown executor fails before anything else
+    if resume is not None:
+        if out is not None:
+            raise InputError("give either --out or --resume, not both")
+        folder = Path(resume)
+        store = ResultsStore(folder)
+        meta = store.read_run()
+        suite = _suite_of_run(meta, folder)
+        jobs = expand(suite)
+        _check_same_jobs([j["job_id"] for j in meta.get("jobs", [])], jobs, folder,
+                         "world, planner or robot files changed since it started")
+        if suite_path is not None:
+            _check_same_jobs([j.job_id for j in jobs], expand(load_suite(suite_path)), folder,
+                             f"{suite_path} is not the suite it ran")
+        store.repair()
+    else:
+        suite = load_suite(suite_path if suite_path is not None else default_suite_file())
+        jobs = expand(suite)
+        folder = _new_folder(suite, out)
+        store = ResultsStore(folder)
+        if store.exists():
+            raise InputError(f"{folder} already holds a run; finish it with --resume {folder} "
+                             f"or choose another --out")
+        meta = {"format": RUN_FORMAT, "suite": describe(suite), "started": _now(), "sessions": []}
+
+    with store:
+        jobs = with_world_files(jobs, _write_generated_worlds(suite, store))
+        done_rows = store.rows()
+        done = {r.get("job_id") for r in done_rows}
+        pending = [j for j in jobs if j.job_id not in done]
+        env = environment()
+        session: dict[str, Any] = {"started": _now(), "ended": None, "status": "running",
+                                   "executor": runner.describe(), "episodes": 0,
+                                   "host": env["host"], "nav_bench": env["nav_bench"],
+                                   "git": env["git"]}
+        meta.update(env)  # the latest session's; each session keeps its own host and version
+        meta["jobs"] = [j.summary() for j in jobs]
+        meta["total"] = len(jobs)
+        meta["sessions"] = [*meta.get("sessions", []), session]
+        meta["executor"] = runner.describe()
+        meta["workers"] = meta["executor"].get("workers")
+
+        def save_meta(status: str, ended: bool = False) -> None:
+            session["status"] = meta["status"] = status
+            if ended:
+                session["ended"] = meta["ended"] = _now()
+            meta["done"] = len(done_rows)
+            meta["errors"] = sum(1 for r in done_rows if r.get("outcome") == "error")
+            meta["reached"] = sum(1 for r in done_rows if r.get("success"))
+            store.write_run(meta)
+
+        save_meta("running")
+        bar = _Progress(len(jobs), done_rows, suite.name, progress)
+        status = "failed"
+        try:
+            with _StopRequests() as stop:
+                for outcome in _outcomes(runner, pending, episode_fn, stop):
+                    done_rows.append(_store_outcome(store, outcome))
+                    session["episodes"] += 1
+                    bar.update(outcome.row)
+                status = "interrupted" if stop() and len(done_rows) < len(jobs) else "complete"
+                if status == "complete":  # a cluster's size is known by now
+                    meta["executor"] = session["executor"] = runner.describe()
+        except KeyboardInterrupt:
+            status = "interrupted"
+        finally:
+            bar.close()
+            save_meta(status, ended=True)
+    if status == "interrupted":
+        raise RunInterrupted(folder, len(done_rows), len(jobs))
+    return folder
+
+
+def _outcomes(runner: Any, pending: list[EpisodeJob], episode_fn: EpisodeFn,
+              stop: _StopRequests) -> Iterator[JobOutcome]:
+    """The executor's outcomes until it is done or a stop is requested."""
+    stream = runner.run(pending, episode_fn, should_stop=stop)
+    with contextlib.closing(stream):
+        for outcome in stream:
+            yield outcome
+            if stop():
+                return
