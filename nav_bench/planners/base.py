@@ -104,6 +104,14 @@ class PlannerEvent:
     data: dict[str, Any] = field(default_factory=dict)
 
 
+class ParamError(InputError):
+    """A bad planner parameter; ``param`` names it (for file/key/line reporting)."""
+
+    def __init__(self, message: str, param: str) -> None:
+        self.param = param
+        super().__init__(message)
+
+
 @dataclass(frozen=True)
 class Param:
     """One planner parameter: its default, unit and one line of meaning."""
@@ -121,21 +129,21 @@ class Param:
         expected = type(self.default)
         if expected is bool:
             if not isinstance(value, bool):
-                raise InputError(f"parameter {self.name!r} expects true or false, got {value!r}")
+                raise ParamError(f"parameter {self.name!r} expects true or false, got {value!r}", self.name)
         elif expected in (int, float):
             if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise InputError(f"parameter {self.name!r} expects a number ({self.unit}), got {value!r}")
+                raise ParamError(f"parameter {self.name!r} expects a number ({self.unit}), got {value!r}", self.name)
             if expected is int and float(value) != int(value):
-                raise InputError(f"parameter {self.name!r} expects a whole number, got {value!r}")
+                raise ParamError(f"parameter {self.name!r} expects a whole number, got {value!r}", self.name)
             value = expected(value)
             if self.minimum is not None and value < self.minimum:
-                raise InputError(f"parameter {self.name!r} must be >= {self.minimum}, got {value!r}")
+                raise ParamError(f"parameter {self.name!r} must be >= {self.minimum}, got {value!r}", self.name)
             if self.maximum is not None and value > self.maximum:
-                raise InputError(f"parameter {self.name!r} must be <= {self.maximum}, got {value!r}")
+                raise ParamError(f"parameter {self.name!r} must be <= {self.maximum}, got {value!r}", self.name)
         elif expected is str and not isinstance(value, str):
-            raise InputError(f"parameter {self.name!r} expects text, got {value!r}")
+            raise ParamError(f"parameter {self.name!r} expects text, got {value!r}", self.name)
         if self.choices is not None and value not in self.choices:
-            raise InputError(f"parameter {self.name!r} must be one of {list(self.choices)}, got {value!r}")
+            raise ParamError(f"parameter {self.name!r} must be one of {list(self.choices)}, got {value!r}", self.name)
         return value
 
 
@@ -192,8 +200,8 @@ def resolve_params(cls: type[Planner], overrides: dict[str, Any]) -> dict[str, A
 
         close = difflib.get_close_matches(unknown[0], known, n=1)
         hint = f" Did you mean {close[0]!r}?" if close else ""
-        raise InputError(f"planner {cls.name!r} has no parameter {unknown[0]!r}.{hint} "
-                         f"Parameters: {', '.join(known) or '(none)'}")
+        raise ParamError(f"planner {cls.name!r} has no parameter {unknown[0]!r}.{hint} "
+                         f"Parameters: {', '.join(known) or '(none)'}", unknown[0])
     return {name: (p.check(overrides[name]) if name in overrides else p.default)
             for name, p in known.items()}
 

@@ -9,13 +9,15 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import os
+import sys
 from collections.abc import Iterator
 from importlib.metadata import entry_points
 from pathlib import Path
 from typing import Any
 
 from nav_bench.errors import InputError, UnknownNameError
-from nav_bench.planners.base import Planner, resolve_params
+from nav_bench.planners.base import ParamError, Planner, resolve_params
 from nav_bench.specs import PlannerSetSpec
 from nav_bench.yamlio import LineIndex
 
@@ -84,7 +86,16 @@ def load_dotted(target: str) -> Any:
     try:
         module = importlib.import_module(module_name)
     except ImportError as exc:
-        raise InputError(f"cannot import planner module {module_name!r}: {exc}") from None
+        # the `nav-bench` script does not put the working folder on sys.path (python -m does);
+        # a user's planner module next to their suite should load either way
+        cwd = os.getcwd()
+        if cwd in sys.path:
+            raise InputError(f"cannot import planner module {module_name!r}: {exc}") from None
+        sys.path.append(cwd)
+        try:
+            module = importlib.import_module(module_name)
+        except ImportError as exc2:
+            raise InputError(f"cannot import planner module {module_name!r}: {exc2}") from None
     try:
         return getattr(module, attr)
     except AttributeError:
@@ -115,9 +126,8 @@ def check_params(planner: str, params: dict[str, Any], *, file: str | Path | Non
                         line=index.line_of(("planner",)) if index else None) from None
     try:
         return resolve_params(cls, params)
-    except InputError as exc:
-        bad = next((k for k in params if k in str(exc)), None)
-        loc = ("params", bad) if bad else ("params",)
+    except ParamError as exc:
+        loc = ("params", exc.param)
         raise SpecError(str(exc), file=file, key_path=".".join(map(str, loc)),
                         line=index.line_of(loc) if index else None) from None
 
@@ -136,7 +146,7 @@ def parse_planner_arg(text: str) -> PlannerSetSpec:
         return load_planner_set(text)
     name, overrides = text, {}
     head, sep, tail = text.rpartition(":")
-    if sep and "=" in tail:
+    if sep and ("=" in tail or head in default_registry()):
         name = head
         for item in tail.split(","):
             key, eq, value = item.partition("=")

@@ -1,0 +1,87 @@
+"""The planner registry: names, dotted paths, entry points, parameter sets, helpful errors."""
+
+from __future__ import annotations
+
+from importlib.metadata import EntryPoint
+from pathlib import Path
+
+import pytest
+
+from nav_bench.errors import InputError, SpecError, UnknownNameError
+from nav_bench.planners import registry as reg
+from nav_bench.planners.registry import PlannerRegistry, parse_planner_arg
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_unknown_name_suggests_the_closest():
+    with pytest.raises(UnknownNameError) as info:
+        reg.default_registry().get("dstar_lit")
+    assert "Did you mean 'dstar_lite'?" in str(info.value)
+    assert info.value.exit_code == 2
+
+
+def test_registering_a_name_twice_is_an_error():
+    r = PlannerRegistry({"eopc": "nav_bench.planners.eopc:EOPC"}, use_entry_points=False)
+    with pytest.raises(InputError, match="registered twice"):
+        r.register("eopc", "examples.my_planners:Cautious")
+
+
+def test_entry_point_group_registers_a_planner(monkeypatch):
+    ep = EntryPoint(name="cautious", value="examples.my_planners:Cautious", group=reg.ENTRY_POINT_GROUP)
+    monkeypatch.setattr(reg, "entry_points", lambda group: [ep] if group == reg.ENTRY_POINT_GROUP else [])
+    r = PlannerRegistry(reg.BUILTIN)
+    assert "cautious" in r.names() and "eopc" in r.names()
+    assert r.get("cautious").__name__ == "Cautious"
+
+
+def test_entry_point_clashing_with_a_builtin_is_refused(monkeypatch):
+    ep = EntryPoint(name="eopc", value="examples.my_planners:Cautious", group=reg.ENTRY_POINT_GROUP)
+    monkeypatch.setattr(reg, "entry_points", lambda group: [ep])
+    with pytest.raises(InputError, match="'eopc' is registered twice"):
+        PlannerRegistry(reg.BUILTIN)
+
+
+def test_dotted_path_loads_a_user_planner_with_overrides():
+    spec = parse_planner_arg("examples.my_planners:Cautious:v_max=0.3,stop_m=0.5")
+    assert spec.planner == "examples.my_planners:Cautious"
+    assert spec.params == {"v_max": 0.3, "stop_m": 0.5}
+    planner = reg.make_planner(spec)
+    assert planner.p == {"v_max": 0.3, "stop_m": 0.5, "k_turn": 1.5}
+
+
+def test_dotted_path_to_something_that_is_not_a_planner():
+    with pytest.raises(InputError, match="not a nav_bench Planner"):
+        reg.default_registry().get("nav_bench.errors:InputError")
+    with pytest.raises(InputError, match="cannot import planner module"):
+        reg.default_registry().get("no_such_module_xyz:Planner")
+
+
+def test_parameter_set_file_and_name_with_overrides():
+    paper = parse_planner_arg(str(ROOT / "configs/planners/eopc_paper.yaml"))
+    assert paper.planner == "eopc"
+    over = parse_planner_arg("eopc:RR=0.4,ipo_mode=raw")
+    full = reg.full_params(over)
+    assert full["RR"] == 0.4 and full["ipo_mode"] == "raw"
+    assert full["lambda1"] == 0.8  # untouched defaults filled in
+
+
+@pytest.mark.parametrize("text, words", [
+    ("eopc:RR=abc", "expects a number"),
+    ("eopc:ipo_mode=sum", "must be one of"),
+    ("eopc:RR", "not key=value"),
+    ("eopc:lambda=0.5", "has no parameter 'lambda'"),
+])
+def test_bad_overrides_say_what_is_expected(text, words):
+    with pytest.raises(InputError, match=words):
+        parse_planner_arg(text)
+
+
+def test_unknown_parameter_in_a_file_names_file_key_and_line(tmp_path):
+    path = tmp_path / "bad.yaml"
+    path.write_text("planner: eopc\nparams:\n  RR: 0.5\n  lamda1: 0.9\n")
+    with pytest.raises(SpecError) as info:
+        parse_planner_arg(str(path))
+    err = info.value
+    assert (err.file, err.key_path, err.line) == (str(path), "params.lamda1", 4)
+    assert "Did you mean 'lambda1'?" in err.problem
