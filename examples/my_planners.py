@@ -25,12 +25,9 @@ class Cautious(Planner):
         gx, gy = obs.goal
         if math.hypot(gx - x, gy - y) < 0.2:
             return Command(0.0, 0.0)
-        angles, ranges = obs.robot.sonar.angles, obs.ranges
-        front = min(r for a, r in zip(angles, ranges) if abs(a) < 0.5)
-        if front < self.p["stop_m"]:  # blocked: turn in place toward the freer side
-            left = sum(r for a, r in zip(angles, ranges) if a > 0)
-            right = sum(r for a, r in zip(angles, ranges) if a < 0)
-            return Command(0.0, 0.8 if left >= right else -0.8)
+        a, r = obs.robot.sonar.angles, obs.ranges  # (K,) mount angles (rad), readings (m)
+        if r[abs(a) < 0.5].min() < self.p["stop_m"]:  # blocked: turn toward the freer side
+            return Command(0.0, 0.8 if r[a > 0].sum() >= r[a < 0].sum() else -0.8)
         error = math.atan2(gy - y, gx - x) - yaw
         error = math.atan2(math.sin(error), math.cos(error))
         omega = max(-1.0, min(1.0, self.p["k_turn"] * error))
