@@ -72,29 +72,70 @@ def success_and_spl(per_world: dict[str, list[GroupStats]], overall: Sequence[Gr
     return path
 
 
+def _time_horizon(rows: Sequence[dict[str, Any]]) -> float:
+    """The largest time limit (s) among the rows, or the longest episode if none is recorded."""
+    limits = [r.get("time_limit_s") or (r.get("settings") or {}).get("time_s") for r in rows]
+    times = [r.get("time_s") for r in rows if r.get("time_s") is not None]
+    return float(max([x for x in limits if x] or times or [0.0]))
+
+
+def _draw_within_time(ax: Any, rows: Sequence[dict[str, Any]], order: Sequence[str],
+                      horizon: float, legend: bool) -> None:
+    from nav_bench.report import share_reached_within
+
+    t = np.linspace(0.0, horizon, 400)
+    for name, color in zip(order, _colors(len(order)), strict=True):
+        mine = [r for r in rows if r["set"] == name]
+        if mine:
+            ax.step(t, share_reached_within(mine, t), where="post", color=color,
+                    label=f"{name} (n={len(mine)})")
+    ax.set_xlim(0, horizon)
+    ax.set_ylim(0, 1.02)
+    ax.grid(alpha=0.3)
+    if legend:
+        ax.legend(fontsize=8, loc="upper left")
+
+
 def success_within_time(rows: Sequence[dict[str, Any]], order: Sequence[str],
                         path: Path) -> Path | None:
     """Share of each set's episodes that reached the goal within T, for T up to the limit."""
-    from nav_bench.report import share_reached_within
-
-    limits = [r.get("time_limit_s") or (r.get("settings") or {}).get("time_s") for r in rows]
-    times = [r.get("time_s") for r in rows if r.get("time_s") is not None]
-    horizon = max([x for x in limits if x] or times or [0.0])
+    horizon = _time_horizon(rows)
     if horizon <= 0:
         return None
-    t = np.linspace(0.0, horizon, 400)
     fig, ax = plt.subplots(figsize=(7.0, 4.2))
-    for name, color in zip(order, _colors(len(order)), strict=True):
-        mine = [r for r in rows if r["set"] == name]
-        share = share_reached_within(mine, t)
-        ax.step(t, share, where="post", color=color, label=f"{name} (n={len(mine)})")
-    ax.set_xlim(0, horizon)
-    ax.set_ylim(0, 1.02)
+    _draw_within_time(ax, rows, order, horizon, legend=True)
     ax.set_xlabel("time budget T (simulated s)")
     ax.set_ylabel("share reached within T")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="upper left")
     fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def success_within_time_by_world(rows: Sequence[dict[str, Any]], order: Sequence[str],
+                                 path: Path, max_worlds: int = 16) -> Path | None:
+    """The same curve, one panel per world (the first ``max_worlds``): slow or failing, where."""
+    horizon = _time_horizon(rows)
+    worlds = sorted({r["world"] for r in rows})[:max_worlds]
+    if horizon <= 0 or len(worlds) < 2:
+        return None
+    cols = min(4, len(worlds))
+    nrows = -(-len(worlds) // cols)
+    fig, axes = plt.subplots(nrows, cols, figsize=(3.2 * cols, 2.5 * nrows + 0.6),
+                             sharex=True, sharey=True, squeeze=False)
+    for ax, world in zip(axes.flat, worlds, strict=False):
+        _draw_within_time(ax, [r for r in rows if r["world"] == world], order, horizon, legend=False)
+        ax.set_title(world, fontsize=9)
+    for ax in axes.flat[len(worlds):]:
+        ax.set_visible(False)
+    for ax in axes[-1]:
+        ax.set_xlabel("time budget T (s)")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("reached within T")
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=min(len(order), 4), fontsize=8,
+               frameon=False)
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
     fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path

@@ -402,6 +402,8 @@ def write_report(dirs: list[Path], out: Path | None = None) -> Path:
     rel = lambda p: p.relative_to(folder).as_posix()  # noqa: E731
     fig_success = plots.success_and_spl(per_world, ranked, order, figures / "success_spl.png")
     fig_time = plots.success_within_time(rows, order, figures / "success_vs_time.png")
+    fig_time_worlds = plots.success_within_time_by_world(rows, order,
+                                                         figures / "success_vs_time_by_world.png")
     traj_figs: list[tuple[str, Path]] = []
     worlds = list(per_world)
     for world in worlds[:MAX_TRAJECTORY_WORLDS]:
@@ -428,6 +430,8 @@ def write_report(dirs: list[Path], out: Path | None = None) -> Path:
         md += [f"![success within a time budget]({rel(fig_time)})", "",
                "Share of episodes that reached the goal within T simulated seconds: a slow "
                "planner rises late, a failing one stays low.", ""]
+    if fig_time_worlds is not None:
+        md += [f"![success within a time budget, per world]({rel(fig_time_worlds)})", ""]
     if pairs:
         md += ["## Paired comparisons", "",
                "Each pair played the same worlds, seeds and robot; differences are A − B with "
