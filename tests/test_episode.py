@@ -111,15 +111,41 @@ def test_a_planner_that_raises_gives_an_error_row():
     assert "ZeroDivisionError: boom" in result.row["error"]
 
 
-def test_eopc_reaches_the_goal_behind_the_long_wall():
-    world = load_world(ROOT / "worlds" / "paper" / "long_wall.yaml")
+LONG_WALL_3M = {  # `nav-bench generate long_wall --set wall_length=3.0 ...`, see configs/suites
+    "name": "long_wall_3m", "size": [6.5, 6.0], "start": [1.0, 3.0], "goal": [5.5, 3.0],
+    "obstacles": [{"wall": {"from": [4.0, 1.5], "to": [4.0, 4.5]}}]}
+
+
+def test_eopc_reaches_the_goal_behind_a_long_wall():
+    """The paper's Fig. 4 situation: the wall hides the goal and is 8 robot diameters long."""
+    world = WorldSpec.model_validate(LONG_WALL_3M)
     result = run_episode(world, PlannerSetSpec(planner="eopc"), seed=0,
                          settings=EpisodeSettings(time_s=600.0))
     row = result.row
     assert row["outcome"] == "reached", row
-    assert row["replans"] >= 1
-    # it had to go round the wall's lower end, below y = 2
-    assert result.trace.true_pose[:, 1].min() < 2.0
+    assert row["replans"] >= 2 and row["collisions"] == 0
+    # it went round one end of the wall (y < 1.5 or y > 4.5) before crossing x = 4
+    xy = result.trace.true_pose[:, :2]
+    crossing = xy[np.argmax(xy[:, 0] > 4.0)]
+    assert crossing[1] < 1.5 or crossing[1] > 4.5
+
+
+def test_eopc_never_leaves_a_pocket_deeper_than_rr_plus_lambda2():
+    """A property of the rules as PAPER-NOTES reads them (README, "What the benchmark found").
+
+    After each re-plan the robot heads for the goal from a point at most RR from the
+    breakpoint; inside the concave trap every such line ends on the trap's back wall again,
+    so the robot never gets back out through the opening (x = 5).
+    """
+    world = load_world(ROOT / "worlds" / "paper" / "concave_trap.yaml")
+    result = run_episode(world, PlannerSetSpec(planner="eopc"), seed=0,
+                         settings=EpisodeSettings(time_s=300.0))
+    xy = result.trace.true_pose[:, :2]
+    inside = np.argmax(xy[:, 0] > 6.0)  # first time deep in the pocket
+    assert inside > 0
+    assert result.row["outcome"] == "timeout"
+    assert xy[inside:, 0].min() > 5.0
+    assert result.row["replans"] > 20
 
 
 def test_episode_json_prints_exactly_one_row():
