@@ -274,8 +274,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_import)
 
     p = sub.add_parser("perf", help="measure simulation and episode speed on this machine")
-    p.add_argument("--world", default="worlds/paper/labyrinth.yaml")
-    p.add_argument("--seconds", type=float, default=60.0, help="simulated seconds per measured episode")
+    p.add_argument("--world", default="worlds/paper/open_room.yaml",
+                   help="world of the measured goal_seek episode (default: the open room)")
+    p.add_argument("--seconds", type=float, help="time limit of that episode (default: the world's)")
     p.set_defaults(func=cmd_perf)
     return parser
 

@@ -52,7 +52,7 @@ def clutter_world(n: int = 1000, size: float = 40.0) -> WorldSpec:
                                      "goal": [size - 1, size - 1], "obstacles": obstacles})
 
 
-def run_perf(world_file: str = "worlds/paper/labyrinth.yaml", seconds: float = 60.0) -> dict[str, float]:
+def run_perf(world_file: str = "worlds/paper/open_room.yaml", seconds: float | None = None) -> dict[str, float]:
     """Measure and print the figures; returns them."""
     empty_small = WorldSpec.model_validate({"name": "robot_alone", "size": [10, 10], "boundary": False,
                                             "start": [5, 5, 0], "goal": [9, 9]})
@@ -61,7 +61,7 @@ def run_perf(world_file: str = "worlds/paper/labyrinth.yaml", seconds: float = 6
           f"({bare / 240.0:.0f}x real time at 240 Hz)")
 
     world = load_world(world_file)
-    settings = EpisodeSettings(time_s=seconds, stuck_s=None)
+    settings = EpisodeSettings(time_s=seconds)
     result = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=0, settings=settings,
                          world_file=world_file)
     timing, row = result.timing, result.row

@@ -17,6 +17,7 @@ Frames: the base link frame is the robot pose; x forward, y left. PyBullet repor
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from dataclasses import dataclass
@@ -46,7 +47,8 @@ class RobotModel:
         wheel_radius: (left, right) radii of the wheels' collision shapes.
         wheel_base: distance between the wheel contact lines.
         radius: body radius (footprint circle about the base frame origin).
-        sonar_links: link indices of the sonar frames, ordered by their numeric suffix.
+        sonar_links: link indices of the sonar frames in the URDF as written, ordered by their
+            numeric suffix; empty in the simulated body, where fixed links are merged.
         sonar_names: their link names.
         sonar_mounts: (K, 3) sonar frame origins x, y, z in the base link frame.
         sonar_yaws: (K,) sonar axis yaw relative to the robot heading (CCW +).
@@ -93,10 +95,28 @@ def load_robot_body(client: BulletClient, spec: RobotSpec) -> tuple[int, RobotMo
         raise RobotModelError(f"{path}: PyBullet could not load this URDF ({exc}); "
                               "check the XML and any mesh files it names") from exc
     try:
-        return body, _read_model(client, body, spec, path)
-    except RobotModelError:
+        model = _read_model(client, body, spec, path)
+    finally:
         client.removeBody(body)
-        raise
+    # The model is read from the URDF as written (sonar frames are links there); the body that
+    # is simulated has its fixed links (sonar frames, caster) merged into the base. Bullet
+    # otherwise integrates each of them as a link of its own: merged, a physics step costs
+    # about 30 % less (41.7 -> 29.2 us on this machine), with the same shapes and masses.
+    with quiet_c_stdout():
+        body = client.loadURDF(str(path), basePosition=[0, 0, 0], baseOrientation=list(_IDENTITY),
+                               flags=flags | pybullet.URDF_MERGE_FIXED_LINKS)
+    return body, _simulated_model(client, body, spec, model)
+
+
+def _simulated_model(c: BulletClient, body: int, spec: RobotSpec, model: RobotModel) -> RobotModel:
+    """``model`` with the joint indices, centre of mass and rest height of the merged body."""
+    joints = {c.getJointInfo(body, j)[1].decode(): j for j in range(c.getNumJoints(body))}
+    dyn = c.getDynamicsInfo(body, -1)
+    lowest = min(c.getAABB(body, link)[0][2] for link in range(-1, c.getNumJoints(body)))
+    return dataclasses.replace(
+        model, left_joint=joints[spec.left_wheel_joint], right_joint=joints[spec.right_wheel_joint],
+        sonar_links=(), com_offset=(tuple(map(float, dyn[3])), tuple(map(float, dyn[4]))),
+        rest_height=float(-lowest))
 
 
 def _read_model(client: BulletClient, body: int, spec: RobotSpec, path: Path) -> RobotModel:
