@@ -463,7 +463,7 @@ class EOPC(Planner):
               "again", minimum=0.0),
         # -- PC: neighbours and cost terms
         Param("RR", 0.5, "m", "radius of the circle of breakpoint neighbours", minimum=0.01),
-        Param("n_neighbors", 16, "", "neighbours on the circle, evenly spaced from theta = 0 (the heading)",
+        Param("n_neighbors", 16, "-", "neighbours on the circle, evenly spaced from theta = 0 (the heading)",
               minimum=1),
         Param("region_radius", 0.0, "m", "radius of region A for IPO and IPT; 0 means RR/2", minimum=0.0),
         Param("free_below", 35.0, "%", "RC = 0 (free) when PMO < this; two free sonar sightings of an "
@@ -478,16 +478,16 @@ class EOPC(Planner):
               minimum=0, maximum=100),
         Param("max_blocked_cycles", 5, "cycles", "control cycles PC waits with every neighbour at r = 100 "
               "before taking the smallest F anyway", minimum=0),
-        Param("w_g", 1.0, "", "weight of CD, G = RR*|theta| in F", minimum=0.0),
-        Param("w_h", 1.0, "", "weight of CHC, H = distance to the goal in F", minimum=0.0),
-        Param("w_ipo", 1.0, "", "weight of IPO (obstacle intensity over A) in F", minimum=0.0),
-        Param("w_ipt", 1.0, "", "weight of IPT (trajectory intensity over A) in F", minimum=0.0),
-        Param("w_r", 1.0, "", "weight of the risk index r in F", minimum=0.0),
-        Param("normalize", False, "", "divide each term of F by its largest possible value before "
+        Param("w_g", 1.0, "-", "weight of CD, G = RR*|theta| in F", minimum=0.0),
+        Param("w_h", 1.0, "-", "weight of CHC, H = distance to the goal in F", minimum=0.0),
+        Param("w_ipo", 1.0, "-", "weight of IPO (obstacle intensity over A) in F", minimum=0.0),
+        Param("w_ipt", 1.0, "-", "weight of IPT (trajectory intensity over A) in F", minimum=0.0),
+        Param("w_r", 1.0, "-", "weight of the risk index r in F", minimum=0.0),
+        Param("normalize", False, "-", "divide each term of F by its largest possible value before "
               "weighting (see eopc.term_scales); false adds them raw as the paper does"),
-        Param("ipo_mode", "evidence", "", "IPO sums obstacle evidence max(0, PMO-50)*2 ('evidence') or "
+        Param("ipo_mode", "evidence", "-", "IPO sums obstacle evidence max(0, PMO-50)*2 ('evidence') or "
               "PMO as stored ('raw', unknown cells count 50)", choices=IPO_MODES),
-        Param("exclude_blocked_segments", True, "", "a neighbour whose segment from the breakpoint "
+        Param("exclude_blocked_segments", True, "-", "a neighbour whose segment from the breakpoint "
               "crosses an RC = 100 cell is not a candidate (the robot could not drive there)"),
         Param("retry_radius", 0.1, "m", "a stop within this of the previous breakpoint is the same spot: "
               "points already tried there are not candidates (no zero-motion loops)", minimum=0.0),

@@ -165,7 +165,7 @@ def run(planner: Planner, world: BoxWorld, start: tuple[float, float, float],
     if reset:
         planner.reset(obs, rng)
     reached = False
-    for _ in range(int(round(time_s / dt))):
+    for _ in range(round(time_s / dt)):
         if np.hypot(*(pose[:2] - goal_xy)) < goal_tolerance:
             reached = True
             break

@@ -1,0 +1,301 @@
+"""Pieces the baseline planners share: sonar geometry, command limits, heading and path
+pursuit, a sonar wall follower and a short memory of sonar echoes.
+
+Everything here reads only what an :class:`~nav_bench.planners.base.Observation` gives.
+Frames: the robot frame has x forward and y to the left; the world frame is the episode's.
+Units: metres, seconds, radians.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from nav_bench.errors import InputError
+from nav_bench.planners.base import Command, Observation, RobotInfo, wrap_angle
+
+LEFT, RIGHT = 1, -1  # side signs: +1 = the robot's left (+y), -1 = its right
+
+
+# ----------------------------------------------------------------------------- sonar geometry
+def echo_mask(obs: Observation) -> np.ndarray:
+    """(K,) bool: readings that are an echo (finite and below ``max_range``)."""
+    r = np.asarray(obs.ranges, dtype=float)
+    return np.isfinite(r) & (r < obs.robot.sonar.max_range)
+
+
+def robot_frame_hits(obs: Observation) -> np.ndarray:
+    """(K, 2) sonar return points in the robot frame (mount offset + range along the axis), m.
+
+    Readings without an echo give the point at ``max_range``; combine with :func:`echo_mask`.
+    """
+    s = obs.robot.sonar
+    r = np.where(np.isfinite(obs.ranges), obs.ranges, s.max_range)
+    return s.offsets + r[:, None] * np.stack([np.cos(s.angles), np.sin(s.angles)], axis=1)
+
+
+def world_echoes(obs: Observation) -> np.ndarray:
+    """(M, 2) world-frame points of the readings that are echoes, m."""
+    return obs.sonar_hits()[echo_mask(obs)]
+
+
+def obstacle_ahead(obs: Observation, distance: float, half_width: float) -> float:
+    """Distance (m, from the robot centre along its heading) to the nearest echo inside the
+    corridor ``0 < x < distance``, ``|y| < half_width`` of the robot frame; ``inf`` if none.
+
+    Uses the echo points on the sonar axes, so an obstacle between two sonar cones is missed:
+    that is the sensing these planners have.
+    """
+    p = robot_frame_hits(obs)[echo_mask(obs)]
+    inside = (p[:, 0] > 0.0) & (p[:, 0] < distance) & (np.abs(p[:, 1]) < half_width)
+    return float(p[inside, 0].min()) if inside.any() else math.inf
+
+
+def free_along(points: np.ndarray, origin: np.ndarray, heading: float, length: float,
+               half_width: float) -> bool:
+    """True if none of the world ``points`` (M, 2) lies in the rectangle starting at ``origin``
+    (2,) along ``heading`` (rad) for ``length`` m, ``half_width`` m to each side.
+
+    Points behind ``origin`` are ignored: a cone sonar's echo placed on its axis can sit
+    beside the robot although the surface it came from is farther away."""
+    if len(points) == 0:
+        return True
+    d = points - origin
+    c, s = math.cos(heading), math.sin(heading)
+    along = d[:, 0] * c + d[:, 1] * s
+    lateral = np.abs(-d[:, 0] * s + d[:, 1] * c)
+    return not bool(np.any((along > 0.0) & (along < length) & (lateral < half_width)))
+
+
+# ----------------------------------------------------------------------------- commands
+def limit(v: float, omega: float, robot: RobotInfo) -> Command:
+    """A finite command inside the robot's limits (NaN becomes 0)."""
+    v = 0.0 if not math.isfinite(v) else max(-robot.v_max, min(robot.v_max, v))
+    omega = 0.0 if not math.isfinite(omega) else max(-robot.omega_max, min(robot.omega_max, omega))
+    return Command(float(v), float(omega))
+
+
+STOP = Command(0.0, 0.0)
+
+
+def steer(obs: Observation, heading: float, v_des: float, *, k_omega: float = 2.5,
+          turn_in_place: float = math.radians(60.0)) -> Command:
+    """Turn toward ``heading`` (rad, world) while driving at up to ``v_des`` m/s.
+
+    The heading error sets ``omega = k_omega * error``; translation falls with ``cos(error)``
+    and is zero when the error exceeds ``turn_in_place`` (a differential drive turns on the spot
+    rather than driving a wide arc away from where it wants to go).
+    """
+    err = wrap_angle(heading - float(obs.pose[2]))
+    omega = k_omega * err
+    v = 0.0 if abs(err) > turn_in_place else v_des * max(0.0, math.cos(err))
+    return limit(v, omega, obs.robot)
+
+
+def arrival_speed(distance: float, v_des: float, slow_radius: float = 0.6) -> float:
+    """Speed, m/s, easing in linearly over the last ``slow_radius`` m to a goal (never below 20 %)."""
+    return v_des * min(1.0, max(0.2, distance / slow_radius))
+
+
+def pure_pursuit(obs: Observation, path: np.ndarray, lookahead: float, v_des: float, *,
+                 turn_in_place: float = math.radians(60.0)) -> Command:
+    """Follow a polyline ``path`` (N, 2) (world, m; first point near the robot, last the goal).
+
+    The lookahead point is the first path point at least ``lookahead`` m from the robot
+    (the path's end if none). Curvature ``kappa = 2 sin(alpha) / L`` (Coulter 1992) with
+    ``alpha`` the bearing of that point; the robot turns on the spot when ``|alpha|`` exceeds
+    ``turn_in_place``, and slows so that ``|v * kappa| <= omega_max``.
+    """
+    xy = np.asarray(obs.pose[:2], dtype=float)
+    if len(path) == 0:
+        return STOP
+    d = np.hypot(path[:, 0] - xy[0], path[:, 1] - xy[1])
+    far = np.nonzero(d >= lookahead)[0]
+    target = path[far[0]] if len(far) else path[-1]
+    dist = float(np.hypot(*(target - xy)))
+    if dist < 1e-9:
+        return STOP
+    alpha = wrap_angle(math.atan2(target[1] - xy[1], target[0] - xy[0]) - float(obs.pose[2]))
+    if abs(alpha) > turn_in_place:
+        return limit(0.0, 2.5 * alpha, obs.robot)
+    v = arrival_speed(float(np.hypot(*(path[-1] - xy))), v_des)
+    kappa = 2.0 * math.sin(alpha) / max(dist, 1e-6)
+    if abs(v * kappa) > obs.robot.omega_max:
+        v = obs.robot.omega_max / abs(kappa)
+    return limit(v, v * kappa, obs.robot)
+
+
+# ----------------------------------------------------------------------------- wall following
+@dataclass(frozen=True)
+class WallEstimate:
+    """A wall seen by one side's sonars, in the robot frame.
+
+    Attributes:
+        distance: perpendicular distance from the robot centre to the wall line, m.
+        angle: direction of the wall relative to the robot heading, rad; 0 = parallel,
+            negative (wall on the left) / positive (wall on the right) = converging.
+    """
+
+    distance: float
+    angle: float
+
+
+def estimate_wall(obs: Observation, side: int, lost: float) -> WallEstimate | None:
+    """Fit a straight wall to the readings of the sonars on ``side`` (LEFT/RIGHT) between 30
+    and 120 deg from the heading (on the default ring: the 45 and 90 deg sonars).
+
+    A cone sonar returns the *shortest* range within its cone, i.e. along the ray closest to
+    the wall's normal, not along its axis. For a candidate normal direction ``a`` the ray is
+    the axis clamped to the cone around ``a``; range ``r`` then means the wall lies at
+    ``d = r cos(ray - a) + offset . n``. The normal direction whose distances agree best
+    across the sonars is kept (1 deg grid search). With one sonar the wall is assumed
+    parallel. Readings beyond ``lost`` m are ignored; ``None`` if none is left.
+    """
+    s = obs.robot.sonar
+    rel = side * s.angles
+    pick = (rel > math.radians(30)) & (rel < math.radians(120)) & echo_mask(obs)
+    pick &= np.asarray(obs.ranges) < lost
+    if not pick.any():
+        return None
+    ang, off, rng = s.angles[pick], s.offsets[pick], np.asarray(obs.ranges, dtype=float)[pick]
+    half = s.cone / 2
+    if len(rng) == 1:
+        normals = np.array([side * math.pi / 2])
+    else:
+        normals = side * np.radians(np.arange(20.0, 161.0))  # wall normal candidates
+    ray = np.clip(normals[:, None], ang[None, :] - half, ang[None, :] + half)  # (C, k)
+    d = rng[None, :] * np.cos(ray - normals[:, None]) + (
+        off[None, :, 0] * np.cos(normals[:, None]) + off[None, :, 1] * np.sin(normals[:, None]))
+    best = int(np.argmin(d.max(axis=1) - d.min(axis=1)))
+    normal = float(normals[best])
+    return WallEstimate(distance=float(d[best].mean()), angle=wrap_angle(normal - side * math.pi / 2))
+
+
+class WallFollower:
+    """Keep a wall on one side at a set distance using only the sonars (a reactive follower).
+
+    Rules, in order: (1) something close ahead (front corridor) -> turn on the spot away
+    from the wall side, or toward it while rounding a corner (the wall was fitted within the
+    last ``corner_cycles`` cycles and is gone: the opening is on that side);
+    (2) a wall fitted on the followed side (:func:`estimate_wall`) -> steer to make it
+    parallel at ``distance``; (3) no wall on that side (its end has passed) -> arc toward
+    that side with radius ``distance`` to round the corner.
+
+    Args:
+        side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
+        distance: wall distance to hold, m from the robot centre.
+        speed: forward speed, m/s.
+        front: clearance ahead (m from the centre) below which the robot turns on the spot.
+        k_dist: turn rate per metre of distance error, rad/s/m. k_angle: per rad of wall angle, 1/s.
+        corner_cycles: how long (control cycles) after losing the wall rule (1) turns toward it.
+    """
+
+    def __init__(self, side: int, distance: float, speed: float, front: float,
+                 k_dist: float = 2.0, k_angle: float = 2.0, corner_cycles: int = 30) -> None:
+        if side not in (LEFT, RIGHT):
+            raise InputError(f"wall follower side must be LEFT (+1) or RIGHT (-1), got {side!r}")
+        self.side, self.distance, self.speed, self.front = side, distance, speed, front
+        self.k_dist, self.k_angle = k_dist, k_angle
+        self.corner_cycles = corner_cycles
+        self._since_wall = corner_cycles + 1  # control cycles since a wall was last fitted
+
+    def start(self) -> None:
+        """Begin following a new boundary (forget the last wall seen)."""
+        self._since_wall = self.corner_cycles + 1
+
+    def act(self, obs: Observation) -> Command:
+        robot = obs.robot
+        s = self.side
+        half_width = robot.radius + 0.05
+        wall = estimate_wall(obs, s, lost=self.distance + 0.6)
+        self._since_wall = 0 if wall is not None else self._since_wall + 1
+        if obstacle_ahead(obs, self.front, half_width) < self.front:
+            # rounding a corner that just ended on our side: the open side is the wall side
+            rounding = 0 < self._since_wall <= self.corner_cycles
+            return limit(0.0, (s if rounding else -s) * 0.6 * robot.omega_max, robot)
+        v = min(self.speed, robot.v_max)
+        if wall is None:  # the wall ended: round its end
+            radius = max(self.distance, 1e-3)
+            return limit(0.6 * v, s * 0.6 * v / radius, robot)
+        err = max(-0.5, min(0.5, wall.distance - self.distance))
+        omega = s * self.k_dist * err + self.k_angle * wall.angle
+        v *= max(0.25, 1.0 - abs(omega) / robot.omega_max)
+        return limit(v, omega, robot)
+
+
+# ----------------------------------------------------------------------------- echo memory
+class EchoMemory:
+    """The sonar echoes of the last ``horizon`` seconds as world points (from the odometry pose).
+
+    Six sonars sample the surroundings too sparsely to see an obstacle's outline in one
+    cycle; remembering recent echoes lets a planner reason about what it just drove past.
+    Odometry drift over a few seconds is small, so the points stay consistent.
+
+    Args:
+        horizon: how long an echo is kept, s.
+        capacity: at most this many points are kept (oldest dropped first).
+    """
+
+    def __init__(self, horizon: float, capacity: int = 4000) -> None:
+        self.horizon, self.capacity = horizon, capacity
+        self._xy = np.zeros((0, 2))
+        self._t = np.zeros(0)
+
+    def clear(self) -> None:
+        self._xy, self._t = np.zeros((0, 2)), np.zeros(0)
+
+    def add(self, obs: Observation) -> None:
+        """Store this cycle's echoes and forget those older than the horizon."""
+        pts = world_echoes(obs)
+        xy = np.concatenate([self._xy, pts])
+        t = np.concatenate([self._t, np.full(len(pts), obs.t)])
+        keep = t >= obs.t - self.horizon
+        self._xy, self._t = xy[keep][-self.capacity:], t[keep][-self.capacity:]
+
+    def points(self, center: np.ndarray | None = None, radius: float = math.inf) -> np.ndarray:
+        """(M, 2) remembered points, optionally only those within ``radius`` m of ``center``."""
+        if center is None or not math.isfinite(radius):
+            return self._xy.copy()
+        d = np.hypot(self._xy[:, 0] - center[0], self._xy[:, 1] - center[1])
+        return self._xy[d <= radius]
+
+    def __len__(self) -> int:
+        return len(self._xy)
+
+
+# ----------------------------------------------------------------------------- loops
+class LoopDetector:
+    """Has the robot come back to where it started following a boundary?
+
+    Armed at a point; fires when the robot returns within ``radius`` m of it after having
+    been farther than ``2 * radius`` and having travelled at least ``min_length`` m.
+    """
+
+    def __init__(self, radius: float, min_length: float) -> None:
+        self.radius, self.min_length = radius, min_length
+        self.origin: np.ndarray | None = None
+        self._left = False
+        self._travel = 0.0
+        self._last: np.ndarray | None = None
+
+    def arm(self, xy: np.ndarray) -> None:
+        self.origin = np.asarray(xy, dtype=float).copy()
+        self._left, self._travel, self._last = False, 0.0, self.origin.copy()
+
+    def disarm(self) -> None:
+        self.origin = None
+
+    def update(self, xy: np.ndarray) -> bool:
+        """Feed the current position; True when a full loop is detected."""
+        if self.origin is None:
+            return False
+        xy = np.asarray(xy, dtype=float)
+        if self._last is not None:
+            self._travel += float(np.hypot(*(xy - self._last)))
+        self._last = xy.copy()
+        d = float(np.hypot(*(xy - self.origin)))
+        if d > 2 * self.radius:
+            self._left = True
+        return self._left and d < self.radius and self._travel >= self.min_length

@@ -1,0 +1,257 @@
+"""TangentBug with the sonar range as its sensing range.
+
+Reference: I. Kamon, E. Rivlin and E. Rimon, "TangentBug: A range-sensor-based navigation
+algorithm", The International Journal of Robotics Research 17(9):934-953, 1998.
+
+TangentBug assumes a 360 deg range sensor that shows the visible boundary of obstacles
+within range ``R``. Six sonars sample only six narrow cones, so the *local range
+function* is built from a short memory (:class:`~nav_bench.planners.follow.EchoMemory`) of
+the echoes of the last ``memory_s`` seconds in the world frame (from the odometry pose):
+each echo within ``R`` at distance ``d`` blocks the directions within
+``asin((radius + clearance) / d)`` of its bearing (the obstacle grown by the robot), and
+``rho(theta)`` is the distance of the nearest echo blocking ``theta`` (free directions
+have none). Directions not sensed in the memory window count as free: the planner sees
+less than TangentBug assumes, which is the point of comparing it on this robot.
+
+* **Motion to goal**: if the goal direction is free, drive to the goal. Otherwise the
+  blocked interval of directions containing the goal has two edges; the endpoint ``O`` of
+  each is the first free direction past the edge, at the distance of the boundary there.
+  The robot heads for the endpoint minimising the heuristic distance
+  ``h = |x - O| + |O - goal|``. When ``h`` has not improved on its minimum by ``h_epsilon``
+  for ``stall_cycles`` cycles in which the robot moved (it *stops decreasing*), boundary following starts in the
+  direction of that endpoint. (Also, as a safety reflex, when an echo lies in the corridor
+  ahead closer than ``front_distance``: the sparse sonars can miss an obstacle between cones.)
+* **Boundary following**: approach the boundary (head for the nearest remembered echo until
+  a wall is fitted on the chosen side within ``wall_distance + 0.1`` m or something is
+  closer ahead than ``front_distance``), then keep it at
+  ``wall_distance`` on that side with the sonar wall follower. ``d_followed`` is the
+  smallest goal distance of the near echoes (within ``wall_distance + 0.6`` m) seen ahead
+  and on the followed side since following began;
+  ``d_reach`` is the goal distance of the farthest free point toward the goal
+  (``d_goal - min(free length, d_goal)`` from the range function, evaluated only when the
+  goal direction lies within the sonars' field of view). Leave when ``d_reach < d_followed - leave_margin``.
+* **Unreachable**: back where following began (``loop_radius``) after a lap -> stop and emit
+  ``unreachable``.
+
+Each switch to boundary following emits a ``replan`` event.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, ClassVar
+
+import numpy as np
+
+from nav_bench.planners.base import Command, Observation, Param, Planner, wrap_angle
+from nav_bench.planners.follow import (
+    LEFT,
+    RIGHT,
+    STOP,
+    EchoMemory,
+    LoopDetector,
+    WallFollower,
+    arrival_speed,
+    echo_mask,
+    estimate_wall,
+    obstacle_ahead,
+    steer,
+)
+
+GO, FOLLOW, UNREACHABLE = "motion_to_goal", "follow_boundary", "unreachable"
+
+
+def range_function(points: np.ndarray, xy: np.ndarray, grow: float,
+                   directions: np.ndarray) -> np.ndarray:
+    """``rho`` (D,) of the local range function at ``xy``: for each direction (rad, world), the
+    distance (m) of the nearest point of ``points`` (M, 2) whose grown disc (radius ``grow``)
+    the ray passes; ``inf`` where none does."""
+    if len(points) == 0:
+        return np.full(len(directions), np.inf)
+    d = points - xy
+    dist = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)
+    bearing = np.arctan2(d[:, 1], d[:, 0])
+    half = np.arcsin(np.minimum(1.0, grow / dist))
+    diff = np.abs(np.remainder(directions[:, None] - bearing[None, :] + math.pi, 2 * math.pi) - math.pi)
+    return np.where(diff <= half[None, :], dist[None, :], np.inf).min(axis=1)
+
+
+def blocked_interval_edges(blocked: np.ndarray, k: int) -> tuple[int, int] | None:
+    """The first free bin clockwise and counter-clockwise of the blocked run containing bin
+    ``k`` (bins ordered CCW, circular); ``None`` if every bin is blocked."""
+    n = len(blocked)
+    if blocked.all():
+        return None
+    ccw = next(i for i in range(1, n) if not blocked[(k + i) % n])
+    cw = next(i for i in range(1, n) if not blocked[(k - i) % n])
+    return (k - cw) % n, (k + ccw) % n
+
+
+class TangentBug(Planner):
+    """TangentBug (Kamon, Rivlin & Rimon 1998) on a sonar ring with a short echo memory."""
+
+    name: ClassVar[str] = "tangent_bug"
+    reference: ClassVar[str] = ("Kamon, Rivlin & Rimon, TangentBug: A range-sensor-based navigation "
+                                "algorithm, IJRR 17(9), 1998")
+    params: ClassVar[tuple[Param, ...]] = (
+        Param("v_max", 0.4, "m/s", "cruise speed (capped by the robot's limit)", minimum=0.0),
+        Param("sensing_range", 0.0, "m", "range R of the local range function; 0 = the sonar max range",
+              minimum=0.0),
+        Param("memory_s", 8.0, "s", "how long sonar echoes are kept to build the range function",
+              minimum=0.0),
+        Param("clearance", 0.15, "m", "extra clearance added to the robot radius when growing echoes",
+              minimum=0.0),
+        Param("directions", 120, "-", "number of directions of the local range function", minimum=8),
+        Param("h_epsilon", 0.05, "m", "the heuristic must beat its minimum by this to count as decreasing",
+              minimum=0.0),
+        Param("stall_cycles", 5, "cycles", "cycles without a decrease before boundary following", minimum=1),
+        Param("front_distance", 0.5, "m", "echo this close ahead (from the centre) forces boundary following",
+              minimum=0.0),
+        Param("wall_distance", 0.5, "m", "distance kept from the followed boundary (robot centre)",
+              minimum=0.0),
+        Param("leave_margin", 0.1, "m", "leave when d_reach < d_followed - leave_margin", minimum=0.0),
+        Param("loop_radius", 0.4, "m", "back within this of where following began after a lap = unreachable",
+              minimum=0.0),
+    )
+
+    def reset(self, obs: Observation, rng: np.random.Generator) -> None:
+        super().reset(obs, rng)
+        p = self.p
+        self.memory = EchoMemory(p["memory_s"])
+        self.mode = GO
+        self.h_min = math.inf
+        self.stall = 0
+        self.side = RIGHT
+        self.follower: WallFollower | None = None
+        self.acquired = False
+        self.d_followed = math.inf
+        self.loop = LoopDetector(p["loop_radius"], min_length=4 * p["loop_radius"])
+        self.bins = np.linspace(-math.pi, math.pi, p["directions"], endpoint=False)
+        self._endpoint: list[float] | None = None
+        self._prev_xy = np.asarray(obs.pose[:2], dtype=float).copy()
+        self._follow_starts: list[list[float]] = []
+
+    # -- the local range function ------------------------------------------------------------------
+    def _sensing_range(self, obs: Observation) -> float:
+        return self.p["sensing_range"] or obs.robot.sonar.max_range
+
+    def _endpoints(self, obs: Observation, xy: np.ndarray, goal: np.ndarray
+                   ) -> tuple[bool, float, list[tuple[float, float, int]]]:
+        """(goal direction free?, free length toward the goal (m), endpoints as
+        (heading rad, h m, side to keep the obstacle on))."""
+        r_sense = self._sensing_range(obs)
+        grow = obs.robot.radius + self.p["clearance"]
+        pts = self.memory.points(xy, r_sense)
+        d_goal = float(np.hypot(*(goal - xy)))
+        theta_g = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
+        rho_goal = float(range_function(pts, xy, grow, np.array([theta_g]))[0])
+        free_len = min(d_goal, r_sense, rho_goal)
+        if rho_goal >= d_goal:
+            return True, free_len, []
+        rho = range_function(pts, xy, grow, self.bins)
+        blocked = rho < d_goal
+        n = len(self.bins)
+        k_goal = int(np.argmin(np.abs(np.remainder(self.bins - theta_g + math.pi, 2 * math.pi) - math.pi)))
+        blocked[k_goal] = True
+        edges = blocked_interval_edges(blocked, k_goal)
+        if edges is None:
+            return False, free_len, []
+        out = []
+        for k_free, k_edge, side in ((edges[0], (edges[0] + 1) % n, LEFT),
+                                     (edges[1], (edges[1] - 1) % n, RIGHT)):
+            heading = float(self.bins[k_free])
+            dist = min(float(rho[k_edge]), r_sense)
+            o = xy + dist * np.array([math.cos(heading), math.sin(heading)])
+            out.append((heading, dist + float(np.hypot(*(goal - o))), side))
+        return False, free_len, out
+
+    # -- control -----------------------------------------------------------------------------------
+    def _start_following(self, obs: Observation, xy: np.ndarray, side: int) -> None:
+        p = self.p
+        self.mode, self.side, self.acquired = FOLLOW, side, False
+        self.follower = WallFollower(side, p["wall_distance"], p["v_max"], p["front_distance"])
+        self.d_followed = math.inf
+        self.loop.arm(xy)
+        self._follow_starts.append([float(xy[0]), float(xy[1])])
+        self.emit("replan", obs.t, reason="follow_boundary", side="left" if side == LEFT else "right")
+
+    def act(self, obs: Observation) -> Command:
+        p = self.p
+        xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
+        self.memory.add(obs)
+        v = min(p["v_max"], obs.robot.v_max)
+        d_goal = float(np.hypot(*(goal - xy)))
+        theta_g = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
+        free, free_len, endpoints = self._endpoints(obs, xy, goal)
+        moved = float(np.hypot(*(xy - self._prev_xy)))
+        self._prev_xy = xy.copy()
+        if self.mode == FOLLOW:
+            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+        if self.mode == UNREACHABLE:
+            return STOP
+        ahead = obstacle_ahead(obs, p["front_distance"], obs.robot.radius + 0.05)
+        if free:
+            self._endpoint = None
+            self.h_min, self.stall = min(self.h_min, d_goal), 0
+            if ahead < min(p["front_distance"], d_goal):  # an obstacle the memory did not show
+                side = RIGHT if wrap_angle(theta_g - float(obs.pose[2])) >= 0 else LEFT
+                self._start_following(obs, xy, side)
+                return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+            return steer(obs, theta_g, arrival_speed(d_goal, v))
+        if not endpoints:  # enclosed in every direction within range
+            self._start_following(obs, xy, self.side)
+            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+        heading, h, side = min(endpoints, key=lambda e: e[1])
+        if self._endpoint is None:  # the goal just got blocked: h starts afresh
+            self.h_min, self.stall = math.inf, 0
+        self._endpoint = [heading, h]
+        if h < self.h_min - p["h_epsilon"]:
+            self.h_min, self.stall = h, 0
+        elif moved > 0.01:  # h_min is not lowered here, so a slow steady decrease still counts;
+            self.stall += 1  # turning on the spot toward an endpoint is not a stall
+        if self.stall >= p["stall_cycles"] or ahead < p["front_distance"]:
+            self._start_following(obs, xy, side)
+            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+        return steer(obs, heading, v)
+
+    def _follow(self, obs: Observation, xy: np.ndarray, goal: np.ndarray, d_goal: float,
+                theta_g: float, free_len: float, endpoints: list[tuple[float, float, int]],
+                v: float) -> Command:
+        p = self.p
+        assert self.follower is not None
+        # near echoes ahead and on the followed side belong to the followed obstacle
+        rel = self.side * obs.robot.sonar.angles
+        near = np.asarray(obs.ranges) < p["wall_distance"] + 0.6
+        side_echo = echo_mask(obs) & near & (rel > math.radians(-20))
+        if side_echo.any():
+            hits = obs.sonar_hits()[side_echo]
+            self.d_followed = min(self.d_followed, float(np.hypot(*(hits - goal).T).min()))
+        if self.loop.update(xy):
+            self.mode = UNREACHABLE
+            self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
+            return STOP
+        half_fov = float(np.max(np.abs(obs.robot.sonar.angles))) + obs.robot.sonar.cone / 2
+        in_view = abs(wrap_angle(theta_g - float(obs.pose[2]))) <= half_fov
+        d_reach = d_goal - free_len if in_view else math.inf
+        if self.acquired and d_reach < self.d_followed - p["leave_margin"]:
+            self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
+            self.loop.disarm()
+            return steer(obs, theta_g, arrival_speed(d_goal, v))
+        if not self.acquired:  # first approach the boundary: head for the nearest echo
+            wall = estimate_wall(obs, self.side, lost=p["wall_distance"] + 0.6)
+            close = wall is not None and wall.distance <= p["wall_distance"] + 0.1
+            near = obstacle_ahead(obs, p["front_distance"], obs.robot.radius + 0.05) < p["front_distance"]
+            pts = self.memory.points(xy, self._sensing_range(obs))
+            self.acquired = close or near or len(pts) == 0
+            if not self.acquired:
+                nearest = pts[int(np.argmin(np.hypot(*(pts - xy).T)))]
+                return steer(obs, math.atan2(nearest[1] - xy[1], nearest[0] - xy[0]), v)
+        return self.follower.act(obs)
+
+    def debug_state(self) -> dict[str, Any]:
+        """``mode``, ``memory`` (M, 2) remembered echoes, ``follow_starts`` [[x, y], ...] where
+        boundary following began, ``endpoint`` [heading rad, h m] of the last chosen endpoint."""
+        if not hasattr(self, "memory"):
+            return {}
+        return {"mode": self.mode, "memory": self.memory.points(),
+                "follow_starts": [list(f) for f in self._follow_starts], "endpoint": self._endpoint}

@@ -1,0 +1,303 @@
+"""VFH+: the enhanced vector field histogram.
+
+Reference: I. Ulrich and J. Borenstein, "VFH+: Reliable obstacle avoidance for fast mobile
+robots", Proc. IEEE International Conference on Robotics and Automation (ICRA), 1998,
+pp. 1572-1577. The certainty grid is updated as in HIMM (J. Borenstein and Y. Koren,
+"The vector field histogram - fast obstacle avoidance for mobile robots", IEEE Trans.
+Robotics and Automation 7(3), 1991): ``+increment`` at the cell on the sonar axis at the
+measured range, ``-1`` on the cells the axis crossed before it, clamped to ``[0, c_max]``.
+
+Each cycle, on the cells of the active window (``window_radius`` m around the robot, or
+the goal distance when that is shorter: VFH+ has no notion of a goal position, and a wall
+just behind the goal would otherwise close the goal's sector for good):
+
+1. **Primary polar histogram**: a cell at distance ``d`` and bearing ``beta`` with certainty
+   ``c`` has magnitude ``m = c^2 (a - b d^2)`` with ``a - b d_max^2 = 1`` and enlarges over
+   ``gamma = asin(r_rs / d)``, ``r_rs = radius + safety_distance``; sector ``k`` (centre
+   ``k * alpha``, world frame) sums ``m`` of every cell with ``|k alpha - beta| <= gamma``.
+2. **Binary histogram** with hysteresis: 1 above ``threshold_high``, 0 below
+   ``threshold_low``, the previous value in between.
+3. **Masked histogram**: the robot's turning circles at its current speed
+   (``r = v / omega_max``, one left and one right) are blocked by cells with certainty above
+   ``mask_certainty`` that lie within ``r + r_rs`` of the circle centre; directions beyond
+   the first blocking cell on each side are unreachable.
+4. **Valleys** (runs of free sectors) give candidate directions: the centre of a narrow
+   valley; for a wide one (more than ``s_max`` sectors) the sectors ``s_max/2`` inside each
+   border, plus the goal direction if it lies between them.
+5. **Cost** ``mu1 D(c, goal) + mu2 D(c, heading) + mu3 D(c, previous choice)`` (D: angular
+   difference in sectors); the cheapest candidate is the new direction.
+
+Speed falls with the histogram density in the current heading (``v_max (1 - min(H, h_m)/h_m)``)
+and with the heading error. With no valley at all the robot stops and turns on the spot
+(``blocked`` event) so its front sonars scan for one. A reactive method: no ``replan`` events.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, ClassVar
+
+import numpy as np
+
+from nav_bench.mapping.grid import GridFrame
+from nav_bench.planners.base import Command, Observation, Param, Planner, wrap_angle
+from nav_bench.planners.follow import STOP, arrival_speed, limit
+
+
+def sector_distance(a: np.ndarray | float, b: np.ndarray | float, n: int) -> np.ndarray:
+    """Circular distance between sector positions (may be fractional), in sectors."""
+    d = np.abs(np.asarray(a, dtype=float) - b) % n
+    return np.minimum(d, n - d)
+
+
+def polar_histogram(cells_xy: np.ndarray, certainty: np.ndarray, xy: np.ndarray, n_sectors: int,
+                    r_rs: float, d_max: float, b: float) -> np.ndarray:
+    """(n,) primary polar histogram H^p at ``xy`` from active cells (M, 2) (centres, m) with
+    certainties (M,). Sector ``k`` is centred on world angle ``k * 2 pi / n``."""
+    hist = np.zeros(n_sectors)
+    if len(cells_xy) == 0:
+        return hist
+    d = cells_xy - xy
+    dist = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)
+    beta = np.arctan2(d[:, 1], d[:, 0])
+    mag = certainty.astype(float) ** 2 * (1.0 + b * (d_max ** 2 - dist ** 2))
+    gamma = np.arcsin(np.minimum(1.0, r_rs / dist))
+    centres = np.arange(n_sectors) * (2 * math.pi / n_sectors)
+    diff = np.abs(np.remainder(centres[:, None] - beta[None, :] + math.pi, 2 * math.pi) - math.pi)
+    return np.where(diff <= gamma[None, :], mag[None, :], 0.0).sum(axis=1)
+
+
+def binary_histogram(primary: np.ndarray, previous: np.ndarray, low: float, high: float) -> np.ndarray:
+    """(n,) bool H^b: blocked above ``high``, free below ``low``, else as ``previous``."""
+    return np.where(primary > high, True, np.where(primary < low, False, previous))
+
+
+def turning_limits(cells_xy: np.ndarray, certainty: np.ndarray, pose: np.ndarray, radius_turn: float,
+                   r_rs: float, mask_certainty: float) -> tuple[float, float]:
+    """(phi_right, phi_left): the reachable directions relative to the heading, rad, are those
+    in ``(phi_right, phi_left)``; ``(-pi, pi)`` when nothing blocks the turning circles."""
+    phi_r, phi_l = -math.pi, math.pi
+    if len(cells_xy) == 0 or radius_turn <= 0:
+        return phi_r, phi_l
+    x, y, th = pose
+    s, c = math.sin(th), math.cos(th)
+    right_c = np.array([x + radius_turn * s, y - radius_turn * c])
+    left_c = np.array([x - radius_turn * s, y + radius_turn * c])
+    strong = certainty > mask_certainty
+    pts = cells_xy[strong]
+    rel = np.remainder(np.arctan2(pts[:, 1] - y, pts[:, 0] - x) - th + math.pi, 2 * math.pi) - math.pi
+    reach2 = (radius_turn + r_rs) ** 2
+    block_r = (rel < 0) & (np.sum((pts - right_c) ** 2, axis=1) < reach2)
+    block_l = (rel > 0) & (np.sum((pts - left_c) ** 2, axis=1) < reach2)
+    if block_r.any():
+        phi_r = float(rel[block_r].max())
+    if block_l.any():
+        phi_l = float(rel[block_l].min())
+    return phi_r, phi_l
+
+
+def masked_histogram(binary: np.ndarray, heading: float, phi_r: float, phi_l: float) -> np.ndarray:
+    """(n,) bool H^m: blocked if H^b is, or if the sector is outside ``(phi_r, phi_l)``."""
+    n = len(binary)
+    centres = np.arange(n) * (2 * math.pi / n)
+    rel = np.remainder(centres - heading + math.pi, 2 * math.pi) - math.pi
+    reachable = (rel > phi_r) & (rel < phi_l) if (phi_r > -math.pi or phi_l < math.pi) else np.ones(n, bool)
+    return binary | ~reachable
+
+
+def candidate_directions(masked: np.ndarray, k_target: float, s_max: int) -> list[float]:
+    """Candidate sector positions from the valleys of ``masked`` (True = blocked).
+
+    A valley is a circular run of free sectors from ``k_r`` (clockwise border) to ``k_l``.
+    Narrow (``<= s_max`` sectors): its centre. Wide: ``k_r + s_max/2``, ``k_l - s_max/2`` and
+    the target if it lies between those two.
+    """
+    n = len(masked)
+    if masked.all():
+        return []
+    if not masked.any():
+        return [float(k_target) % n]
+    start = int(np.flatnonzero(masked)[0])  # rotate so that a blocked sector comes first
+    out: list[float] = []
+    k = 0
+    while k < n:
+        if masked[(start + k) % n]:
+            k += 1
+            continue
+        run_start = k
+        while k < n and not masked[(start + k) % n]:
+            k += 1
+        k_r, width = start + run_start, k - run_start  # k_r.. k_r + width - 1 (unwrapped)
+        k_l = k_r + width - 1
+        if width <= s_max:
+            out.append((k_r + (width - 1) / 2) % n)
+        else:
+            c_r, c_l = k_r + s_max / 2, k_l - s_max / 2
+            out += [c_r % n, c_l % n]
+            t = (k_target - k_r) % n + k_r  # the target unwrapped into this valley's frame
+            if c_r <= t <= c_l:
+                out.append(t % n)
+    return out
+
+
+def choose_direction(candidates: list[float], k_target: float, k_heading: float, k_prev: float,
+                     n: int, mu: tuple[float, float, float]) -> float | None:
+    """The candidate of least ``mu1 D(c, target) + mu2 D(c, heading) + mu3 D(c, previous)``."""
+    if not candidates:
+        return None
+    c = np.asarray(candidates)
+    cost = (mu[0] * sector_distance(c, k_target, n) + mu[1] * sector_distance(c, k_heading, n)
+            + mu[2] * sector_distance(c, k_prev, n))
+    return float(c[int(np.argmin(cost))])
+
+
+class CertaintyGrid:
+    """HIMM certainty values (0..c_max) over a fixed grid, updated along the sonar axes."""
+
+    def __init__(self, bounds: tuple[float, float, float, float], cell: float, increment: int,
+                 c_max: int) -> None:
+        self.frame = GridFrame.from_bounds(bounds, cell)
+        self.values = np.zeros(self.frame.shape, dtype=np.int16)
+        self.increment, self.c_max = increment, c_max
+
+    def update(self, obs: Observation) -> None:
+        s = obs.robot.sonar
+        x, y, yaw = (float(v) for v in obs.pose[:3])
+        c, si = math.cos(yaw), math.sin(yaw)
+        h, w = self.frame.shape
+        step = self.frame.cell / 2
+        for k in range(len(s.angles)):
+            ox = x + c * s.offsets[k, 0] - si * s.offsets[k, 1]
+            oy = y + si * s.offsets[k, 0] + c * s.offsets[k, 1]
+            a = yaw + s.angles[k]
+            r = float(obs.ranges[k])
+            echo = math.isfinite(r) and r < s.max_range
+            r = r if echo else s.max_range
+            t = np.arange(0.0, r, step)
+            rc = self.frame.world_to_cell(np.stack([ox + t * math.cos(a), oy + t * math.sin(a)], axis=1))
+            hit = self.frame.world_to_cell((ox + r * math.cos(a), oy + r * math.sin(a)))
+            ok = (rc[:, 0] >= 0) & (rc[:, 0] < h) & (rc[:, 1] >= 0) & (rc[:, 1] < w)
+            idx = np.unique(rc[ok, 0] * w + rc[ok, 1])
+            hit_idx = int(hit[0]) * w + int(hit[1]) if (0 <= hit[0] < h and 0 <= hit[1] < w) else -1
+            idx = idx[idx != hit_idx]
+            flat = self.values.reshape(-1)
+            flat[idx] = np.maximum(flat[idx] - 1, 0)
+            if echo and hit_idx >= 0:
+                flat[hit_idx] = min(int(flat[hit_idx]) + self.increment, self.c_max)
+
+    def active(self, xy: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+        """Centres (M, 2) and certainties (M,) of the nonzero cells within ``radius`` m of ``xy``."""
+        cell = self.frame.cell
+        h, w = self.frame.shape
+        r0, c0 = self.frame.world_to_cell(xy)
+        n = math.ceil(radius / cell) + 1
+        rs, re = max(int(r0) - n, 0), min(int(r0) + n + 1, h)
+        cs, ce = max(int(c0) - n, 0), min(int(c0) + n + 1, w)
+        if rs >= re or cs >= ce:
+            return np.zeros((0, 2)), np.zeros(0)
+        sub = self.values[rs:re, cs:ce]
+        rr, cc = np.nonzero(sub)
+        centres = self.frame.cell_center(rr + rs, cc + cs)
+        near = np.hypot(centres[:, 0] - xy[0], centres[:, 1] - xy[1]) <= radius
+        return centres[near], sub[rr, cc][near].astype(float)
+
+
+class VFHPlus(Planner):
+    """VFH+ (Ulrich & Borenstein 1998) on a HIMM certainty grid built from the sonars."""
+
+    name: ClassVar[str] = "vfh_plus"
+    reference: ClassVar[str] = ("Ulrich & Borenstein, VFH+: Reliable obstacle avoidance for fast "
+                                "mobile robots, ICRA 1998")
+    params: ClassVar[tuple[Param, ...]] = (
+        Param("v_max", 0.4, "m/s", "top speed in free space (capped by the robot's limit)", minimum=0.0),
+        Param("cell", 0.1, "m", "side of the certainty grid's cells", minimum=0.01),
+        Param("increment", 3, "-", "certainty added to the cell of an echo (HIMM I+)", minimum=1),
+        Param("c_max", 15, "-", "largest certainty value of a cell", minimum=1),
+        Param("window_radius", 1.6, "m", "radius of the active window around the robot", minimum=0.1),
+        Param("sector_deg", 5.0, "deg", "angular width of a histogram sector", minimum=0.5, maximum=45.0),
+        Param("safety_distance", 0.1, "m", "distance added to the robot radius to enlarge cells", minimum=0.0),
+        Param("distance_weight", 4.0, "1/m^2", "b in m = c^2 (a - b d^2): how much nearer cells weigh",
+              minimum=0.0),
+        Param("threshold_low", 1500.0, "-", "histogram value below which a sector becomes free", minimum=0.0),
+        Param("threshold_high", 2500.0, "-", "histogram value above which a sector becomes blocked",
+              minimum=0.0),
+        Param("mask_certainty", 3.0, "-", "cells above this certainty block the turning circles",
+              minimum=0.0),
+        Param("s_max", 16, "sectors", "valleys wider than this are wide (two border candidates)", minimum=1),
+        Param("mu_goal", 5.0, "-", "cost weight of the difference to the goal direction", minimum=0.0),
+        Param("mu_heading", 2.0, "-", "cost weight of the difference to the current heading", minimum=0.0),
+        Param("mu_previous", 2.0, "-", "cost weight of the difference to the previous choice", minimum=0.0),
+        Param("slow_density", 5000.0, "-", "histogram value in the heading at which the speed reaches zero",
+              minimum=1e-6),
+        Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the chosen direction is farther off",
+              minimum=0.0, maximum=180.0),
+    )
+
+    def reset(self, obs: Observation, rng: np.random.Generator) -> None:
+        super().reset(obs, rng)
+        p = self.p
+        self.grid = CertaintyGrid(obs.bounds, p["cell"], p["increment"], p["c_max"])
+        self.n = max(4, round(360.0 / p["sector_deg"]))
+        self.alpha = 2 * math.pi / self.n
+        self.binary = np.zeros(self.n, dtype=bool)
+        self.k_prev = self._sector(float(obs.pose[2]))
+        self.v_prev = 0.0
+        self.turn_sign = 1.0
+        self.blocked = False
+        self.primary = np.zeros(self.n)
+        self.masked = np.zeros(self.n, dtype=bool)
+
+    def _sector(self, angle: float) -> float:
+        return (angle % (2 * math.pi)) / self.alpha
+
+    def act(self, obs: Observation) -> Command:
+        p = self.p
+        robot = obs.robot
+        self.grid.update(obs)
+        xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
+        yaw = float(obs.pose[2])
+        d_goal = float(np.hypot(*(goal - xy)))
+        r_rs = robot.radius + p["safety_distance"]
+        # obstacles beyond the goal cannot block the way to it: the window shrinks to the goal
+        cells, cert = self.grid.active(xy, min(p["window_radius"], d_goal))
+        self.primary = polar_histogram(cells, cert, xy, self.n, r_rs, p["window_radius"],
+                                       p["distance_weight"])
+        self.binary = binary_histogram(self.primary, self.binary, p["threshold_low"], p["threshold_high"])
+        radius_turn = abs(self.v_prev) / robot.omega_max
+        phi_r, phi_l = turning_limits(cells, cert, obs.pose, radius_turn, r_rs, p["mask_certainty"])
+        self.masked = masked_histogram(self.binary, yaw, phi_r, phi_l)
+        k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
+        k_heading = self._sector(yaw)
+        cands = candidate_directions(self.masked, k_target, p["s_max"])
+        k = choose_direction(cands, k_target, k_heading, self.k_prev, self.n,
+                             (p["mu_goal"], p["mu_heading"], p["mu_previous"]))
+        if k is None:  # no valley: stop and turn on the spot so the front sonars scan
+            if not self.blocked:
+                self.emit("blocked", obs.t)
+            self.blocked, self.v_prev = True, 0.0
+            return limit(0.0, self.turn_sign * 0.5 * robot.omega_max, robot)
+        self.blocked = False
+        self.k_prev = k
+        direction = k * self.alpha
+        err = wrap_angle(direction - yaw)
+        if abs(err) > 1e-9:
+            self.turn_sign = math.copysign(1.0, err)
+        omega = 2.5 * err
+        if abs(err) > math.radians(p["turn_in_place_deg"]):
+            v = 0.0
+        else:
+            density = float(self.primary[round(k_heading) % self.n])
+            v = min(p["v_max"], robot.v_max) * (1.0 - min(density, p["slow_density"]) / p["slow_density"])
+            v = arrival_speed(d_goal, v) * max(0.0, math.cos(err))
+        cmd = limit(v, omega, robot)
+        self.v_prev = cmd.v
+        return cmd if math.isfinite(cmd.v) else STOP
+
+    def debug_state(self) -> dict[str, Any]:
+        """``certainty`` (H, W) HIMM grid with its ``bounds`` and ``cell``; ``primary_histogram``
+        (n,), ``masked_histogram`` (n,) 0/1, ``direction_sector`` (sector 0 = world +x, CCW)."""
+        if not hasattr(self, "grid"):
+            return {}
+        return {"certainty": self.grid.values.copy(), "bounds": list(self.grid.frame.bounds),
+                "cell": self.grid.frame.cell, "primary_histogram": self.primary.copy(),
+                "masked_histogram": self.masked.astype(np.uint8), "direction_sector": float(self.k_prev)}

@@ -1,0 +1,125 @@
+"""VFH+: hand-computed histograms, the turning mask, valley choice, and driving.
+
+Runtime: ~1 s.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from harness import default_robot, observe, open_room, run, u_world, wall_world
+
+from nav_bench.planners.base import Observation
+from nav_bench.planners.vfh_plus import (
+    CertaintyGrid,
+    VFHPlus,
+    binary_histogram,
+    candidate_directions,
+    choose_direction,
+    masked_histogram,
+    polar_histogram,
+    turning_limits,
+)
+
+N = 72  # 5 deg sectors
+
+
+def test_polar_histogram_of_two_cells_by_hand() -> None:
+    cells = np.array([[1.0, 0.0], [0.0, 0.5]])  # 1 m ahead (c = 15), 0.5 m to the left (c = 3)
+    hist = polar_histogram(cells, np.array([15.0, 3.0]), np.zeros(2), N, r_rs=0.3, d_max=1.6, b=4.0)
+    # cell 1: m = 15^2 (1 + 4 (1.6^2 - 1^2)) = 225 * 7.24; gamma = asin(0.3) = 17.46 deg -> sectors -3..3
+    m1 = 225.0 * (1.0 + 4.0 * (1.6 ** 2 - 1.0))
+    # cell 2: m = 3^2 (1 + 4 (1.6^2 - 0.5^2)) = 9 * 10.24; gamma = asin(0.6) = 36.87 deg
+    # around 90 deg -> sectors 55..125 deg = 11..25
+    m2 = 9.0 * (1.0 + 4.0 * (1.6 ** 2 - 0.5 ** 2))
+    expected = np.zeros(N)
+    expected[[69, 70, 71, 0, 1, 2, 3]] = m1
+    expected[11:26] = m2
+    np.testing.assert_allclose(hist, expected)
+    assert m1 == pytest.approx(1629.0) and m2 == pytest.approx(92.16)
+
+
+def test_binary_histogram_hysteresis() -> None:
+    prev = np.array([False, True, False, True])
+    h = binary_histogram(np.array([50.0, 50.0, 300.0, 5.0]), prev, low=20.0, high=100.0)
+    assert h.tolist() == [False, True, True, False]  # between thresholds: keep the old value
+
+
+def test_turning_circle_masks_directions_beyond_a_blocking_cell() -> None:
+    # moving at v with omega_max such that r = 0.5 m; a cell 0.3 m ahead, 0.6 m to the right:
+    # 0.32 m from the right circle's centre (0, -0.5) < r + r_rs = 0.8 -> blocks the right side
+    cells, cert = np.array([[0.3, -0.6]]), np.array([10.0])
+    phi_r, phi_l = turning_limits(cells, cert, np.zeros(3), 0.5, 0.3, mask_certainty=3.0)
+    assert phi_r == pytest.approx(math.atan2(-0.6, 0.3)) and phi_l == pytest.approx(math.pi)
+    masked = masked_histogram(np.zeros(N, dtype=bool), 0.0, phi_r, phi_l)
+    angles = np.remainder(np.arange(N) * 5.0 + 180.0, 360.0) - 180.0  # sector centres, deg
+    assert not masked[(angles > -63.0) & (angles < 180.0)].any()
+    assert masked[(angles < -63.5)].all()
+    # standing still (r = 0) nothing is masked
+    assert turning_limits(cells, cert, np.zeros(3), 0.0, 0.3, 3.0) == (-math.pi, math.pi)
+
+
+def test_valley_nearest_the_goal_direction_wins() -> None:
+    masked = np.ones(N, dtype=bool)
+    masked[10:41] = False   # a wide valley (31 sectors), 50..200 deg
+    masked[50:56] = False   # a narrow valley (6 sectors), 250..275 deg
+    cands = candidate_directions(masked, k_target=60.0, s_max=16)
+    assert sorted(cands) == pytest.approx([18.0, 32.0, 52.5])  # wide: borders + s_max/2; narrow: centre
+    # goal at 300 deg: the narrow valley (262.5 deg) is nearest to it
+    assert choose_direction(cands, 60.0, 20.0, 20.0, N, (5.0, 0.0, 0.0)) == pytest.approx(52.5)
+    assert choose_direction(cands, 60.0, 52.0, 52.0, N, (5.0, 2.0, 2.0)) == pytest.approx(52.5)
+    # ...unless heading and previous choice (both at 100 deg) outweigh it:
+    # cost(18) = 5*30 + 2*2 + 2*2 = 158 < cost(52.5) = 5*7.5 + 2*32.5 + 2*32.5 = 167.5
+    assert choose_direction(cands, 60.0, 20.0, 20.0, N, (5.0, 2.0, 2.0)) == pytest.approx(18.0)
+    # goal at 135 deg inside the wide valley: the goal direction itself is a candidate and wins
+    cands = candidate_directions(masked, k_target=27.0, s_max=16)
+    assert 27.0 in cands
+    assert choose_direction(cands, 27.0, 50.0, 50.0, N, (5.0, 2.0, 2.0)) == pytest.approx(27.0)
+    assert candidate_directions(np.ones(N, dtype=bool), 0.0, 16) == []
+    assert candidate_directions(np.zeros(N, dtype=bool), 7.0, 16) == [7.0]
+
+
+def test_certainty_grid_himm_update() -> None:
+    robot = default_robot()
+    grid = CertaintyGrid((0.0, 0.0, 6.0, 4.0), 0.1, increment=3, c_max=15)
+    ranges = np.full(6, robot.sonar.max_range)
+    ranges[3] = 1.0  # the +15 deg sonar: an echo 1 m from its mount
+    obs = Observation(t=0.0, pose=np.array([1.0, 1.0, -math.radians(15)]), goal=np.array([5.0, 1.0]),
+                      ranges=ranges, robot=robot, bounds=(0.0, 0.0, 6.0, 4.0), dt=0.1)
+    for _ in range(6):
+        grid.update(obs)
+    # the +15 deg sonar looks along +x from (1.2, 1.0): the echo cell holds (1.2 + 1.0, 1.0)
+    assert grid.values[10, 22] == 15  # 6 x 3 = 18, clamped at c_max
+    assert grid.values.sum() == 15  # cells crossed before it were decremented (stay at 0)
+    ranges[3] = robot.sonar.max_range  # the echo is gone: the axis now passes through the cell
+    grid.update(obs)
+    assert grid.values[10, 22] == 14
+
+
+def test_first_observation_of_a_wall_peaks_straight_ahead() -> None:
+    world, _start, goal = wall_world()
+    planner = VFHPlus()
+    robot = default_robot()
+    obs = observe(world, np.array([3.0, 3.0, 0.0]), np.array(goal), robot, 0.0, 0.1)
+    planner.reset(obs, np.random.default_rng(0))
+    for _ in range(3):
+        planner.act(obs)
+    hist = planner.primary
+    assert hist.argmax() in (0, 1, 71)
+    assert hist[18] == 0.0 and hist[36] == 0.0  # nothing to the left or behind
+
+
+@pytest.mark.parametrize("world_fn", [open_room, wall_world])
+def test_reaches_the_goal(world_fn) -> None:
+    world, start, goal = world_fn()
+    result = run(VFHPlus(), world, start, goal, time_s=60.0, noise_std=0.01)
+    assert result.reached and result.collisions == 0
+
+
+def test_trapped_by_the_u_like_other_local_methods() -> None:
+    world, start, goal = u_world()  # documented: VFH+ has no memory of where it has been
+    result = run(VFHPlus(), world, start, goal, time_s=60.0)
+    assert not result.reached and result.collisions == 0
+    assert result.poses[-1, 0] < 5.0  # never got past the bottom of the U
