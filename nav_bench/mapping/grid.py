@@ -80,3 +80,31 @@ class GridFrame:
         """True where ``(row, col)`` is a cell of the grid (bool, broadcast shape of the inputs)."""
         row, col = np.asarray(row), np.asarray(col)
         return (row >= 0) & (row < self.rows) & (col >= 0) & (col < self.cols)
+
+
+class OnGridFrame:
+    """Mixin for a grid that lives on ``self.frame``: its geometry, delegated to the frame."""
+
+    frame: GridFrame
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(H, W) in cells."""
+        return self.frame.shape
+
+    @property
+    def cell(self) -> float:
+        return self.frame.cell
+
+    @property
+    def bounds(self) -> Bounds:
+        """(xmin, ymin, xmax, ymax) in m actually covered by the cells."""
+        return self.frame.bounds
+
+    def world_to_cell(self, xy: np.ndarray | tuple[float, float]) -> np.ndarray:
+        """(row, col) of points, see :meth:`GridFrame.world_to_cell`."""
+        return self.frame.world_to_cell(xy)
+
+    def cell_center(self, row: np.ndarray | int, col: np.ndarray | int) -> np.ndarray:
+        """(x, y) of cell centres, see :meth:`GridFrame.cell_center`."""
+        return self.frame.cell_center(row, col)

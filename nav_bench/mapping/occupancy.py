@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from nav_bench.errors import InputError
-from nav_bench.mapping.grid import Bounds, GridFrame
+from nav_bench.mapping.grid import Bounds, GridFrame, OnGridFrame
 from nav_bench.planners.base import SonarInfo
 
 UNKNOWN = 50  # value of a cell never observed (log-odds 0)
@@ -42,7 +42,7 @@ def log_odds_to_values(log_odds: np.ndarray) -> np.ndarray:
     return np.rint(100.0 / (1.0 + np.exp(-log_odds))).astype(np.uint8)
 
 
-class OccupancyGrid:
+class OccupancyGrid(OnGridFrame):
     """A fixed-size log-odds occupancy grid updated from ray-cone sonars.
 
     Args:
@@ -75,29 +75,6 @@ class OccupancyGrid:
         self._disc_rc = np.zeros((0, 2), dtype=np.int64)
         self._disc_xy = np.zeros((0, 2))
         self._disc_d = np.zeros(0)
-
-    # -- geometry (delegated to the frame) ---------------------------------------------------
-    @property
-    def shape(self) -> tuple[int, int]:
-        """(H, W) in cells."""
-        return self.frame.shape
-
-    @property
-    def cell(self) -> float:
-        return self.frame.cell
-
-    @property
-    def bounds(self) -> Bounds:
-        """(xmin, ymin, xmax, ymax) in m actually covered by the cells."""
-        return self.frame.bounds
-
-    def world_to_cell(self, xy: np.ndarray | tuple[float, float]) -> np.ndarray:
-        """(row, col) of points, see :meth:`GridFrame.world_to_cell`."""
-        return self.frame.world_to_cell(xy)
-
-    def cell_center(self, row: np.ndarray | int, col: np.ndarray | int) -> np.ndarray:
-        """(x, y) of cell centres, see :meth:`GridFrame.cell_center`."""
-        return self.frame.cell_center(row, col)
 
     # -- state -------------------------------------------------------------------------------
     def values(self, copy: bool = True) -> np.ndarray:

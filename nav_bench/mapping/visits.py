@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from nav_bench.mapping.grid import Bounds, GridFrame
+from nav_bench.mapping.grid import Bounds, GridFrame, OnGridFrame
 
 
-class VisitGrid:
+class VisitGrid(OnGridFrame):
     """Visit counts over a fixed rectangle.
 
     Args:
@@ -29,28 +29,6 @@ class VisitGrid:
     def __init__(self, bounds: Bounds, cell: float = 0.1) -> None:
         self.frame = GridFrame.from_bounds(bounds, cell)
         self.counts = np.zeros(self.frame.shape, dtype=np.int64)
-
-    @property
-    def shape(self) -> tuple[int, int]:
-        """(H, W) in cells."""
-        return self.frame.shape
-
-    @property
-    def cell(self) -> float:
-        return self.frame.cell
-
-    @property
-    def bounds(self) -> Bounds:
-        """(xmin, ymin, xmax, ymax) in m actually covered by the cells."""
-        return self.frame.bounds
-
-    def world_to_cell(self, xy: np.ndarray | tuple[float, float]) -> np.ndarray:
-        """(row, col) of points, see :meth:`GridFrame.world_to_cell`."""
-        return self.frame.world_to_cell(xy)
-
-    def cell_center(self, row: np.ndarray | int, col: np.ndarray | int) -> np.ndarray:
-        """(x, y) of cell centres, see :meth:`GridFrame.cell_center`."""
-        return self.frame.cell_center(row, col)
 
     def add(self, xy: np.ndarray | tuple[float, float]) -> bool:
         """Count one control cycle at point ``xy`` (m). False (nothing counted) outside the grid."""
