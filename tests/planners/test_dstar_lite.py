@@ -134,7 +134,7 @@ def test_planner_inflation_in_cells_follows_the_robot_radius() -> None:
     assert planner.inflate_cells == pytest.approx((0.2 + 0.1) / 0.1)
     occ, cost = planner.occupied, planner.cost
     assert occ.any()  # the wall is in the map after a second of sonar
-    np.testing.assert_array_equal(cost, cell_costs(occ, planner.inflate_cells, 20.0))
+    np.testing.assert_array_equal(cost, cell_costs(occ, planner.inflate_cells, planner.p["inflated_cost"]))
 
 
 @pytest.mark.parametrize("seed", [0, 1])
