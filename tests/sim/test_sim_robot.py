@@ -51,7 +51,11 @@ def test_robot_stands_still_at_the_start_pose(session, exact_robot):
     assert sim.true_pose() == pytest.approx(start)
     assert sim.odometry_pose() == pytest.approx(start)
     sim.step(480)  # 2 s at rest: it settles without drifting or tipping
-    assert sim.true_pose() == pytest.approx(start, abs=1e-4)
+    pose = sim.true_pose()
+    assert pose[:2] == pytest.approx(start[:2], abs=1e-4)
+    # Bullet's friction pyramid (the session turns the cone off: steps ~1.7x cheaper) lets a
+    # standing robot creep in yaw by ~1e-4 rad in 2 s; the cone held it to < 1e-5
+    assert pose[2] == pytest.approx(start[2], abs=5e-4)
     (_, _, z), orn = sim.robot.link_pose()
     roll, pitch, _ = session.client.getEulerFromQuaternion(orn)
     assert z == pytest.approx(0.05, abs=1e-3)  # axle height = wheel radius
