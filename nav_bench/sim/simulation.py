@@ -164,8 +164,11 @@ class Simulation:
             self.timing["physics"] += time.perf_counter() - start
 
     def _touching(self) -> set[int]:
+        # the base link only: its body cylinder encloses the wheels in plan view, so anything
+        # but the floor meets it first, and the wheels' floor contacts (up to 8 points) are
+        # not turned into Python tuples every physics step
         ground = self._ground
-        return {p[2] for p in self._contact_points(bodyA=self._robot_id)
+        return {p[2] for p in self._contact_points(bodyA=self._robot_id, linkIndexA=-1)
                 if p[2] != ground and p[8] < CONTACT_DISTANCE}
 
     # -- robot -----------------------------------------------------------------------------------
