@@ -4,7 +4,8 @@ Figures are ratios measured in one run (machines differ; ratios travel better):
   * bare physics stepping with the robot alone (steps/s);
   * a full ``goal_seek`` episode in a paper world as a real-time factor;
   * the split of that episode's wall time: physics, sensing, planning, the rest;
-  * stepping cost with 1,000 static obstacles relative to an empty world of the same size.
+  * stepping cost with 1,000 static obstacles, and in the imported TurtleBot3 map, relative to
+    an empty world of the same size.
 Targets (issue 2): real-time factor >= 100 on one core; everything but physics <= 25 %
 of the episode; 1,000 obstacles within 1.5x of empty.
 """
@@ -53,6 +54,7 @@ def clutter_world(n: int = 1000, size: float = 40.0) -> WorldSpec:
 
 
 STEADY_WORLD = "worlds/paper/very_complex.yaml"
+IMPORTED_WORLD = "worlds/imported/turtlebot3_world.yaml"
 
 
 def _episode_figures(world: WorldSpec, world_file: str, planner: str,
@@ -89,6 +91,14 @@ def run_perf(world_file: str = "worlds/paper/open_room.yaml", seconds: float | N
     rate_empty = _stepping_rate(empty)
     rate_clutter = _stepping_rate(clutter_world(1000))
     ratio = rate_empty / rate_clutter
+    imported = load_world(IMPORTED_WORLD)
+    rate_imported = _stepping_rate(imported)
+    rate_imported_empty = _stepping_rate(WorldSpec.model_validate(
+        {"name": "empty_like_imported", "size": list(imported.size), "start": imported.start,
+         "goal": list(imported.goal)}))
+    ratio_imported = rate_imported_empty / rate_imported
+    print(f"stepping, imported {imported.name} ({len(imported.obstacles)} boxes): "
+          f"{ratio_imported:.2f}x the cost of an empty world of its size")
     print(f"stepping, 40 m world, empty:          {rate_empty:10.0f} steps/s")
     print(f"stepping, 40 m world, 1000 obstacles: {rate_clutter:10.0f} steps/s -> "
           f"{ratio:.2f}x the cost of empty")
@@ -98,4 +108,4 @@ def run_perf(world_file: str = "worlds/paper/open_room.yaml", seconds: float | N
           f"{'met' if not_physics <= 0.25 else 'MISSED'}), "
           f"1000 obstacles <= 1.5x empty ({'met' if ratio <= 1.5 else 'MISSED'})")
     return {"bare_steps_per_s": bare, "real_time_factor": rtf, "non_physics_share": not_physics,
-            "clutter_ratio": ratio}
+            "clutter_ratio": ratio, "imported_ratio": ratio_imported}
