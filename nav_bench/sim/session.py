@@ -80,6 +80,7 @@ class SimSession:
         self.gui = gui
         self.physics_hz = float(physics_hz)
         self._client: BulletClient | None = None
+        self._pristine = False  # True between open() and the first Simulation built on it
         self.ground_id = -1
 
     # -- lifetime ------------------------------------------------------------------------
@@ -110,6 +111,7 @@ class SimSession:
             raise SimulationError(f"could not connect to PyBullet ({what}){hint}")
         self._client = client
         self.reset()
+        self._pristine = True  # nothing added since the reset: a Simulation need not reset again
 
     def close(self) -> None:
         """Disconnect (idempotent)."""
@@ -129,6 +131,13 @@ class SimSession:
         return 1.0 / self.physics_hz
 
     # -- world -----------------------------------------------------------------------------
+    def ensure_empty(self, physics_hz: float | None = None) -> None:
+        """:meth:`reset`, unless the world is still as the last reset left it (same rate)."""
+        if self._pristine and physics_hz in (None, self.physics_hz):
+            self._pristine = False
+            return
+        self.reset(physics_hz)
+
     def reset(self, physics_hz: float | None = None) -> None:
         """Empty the world: gravity, time step, deterministic settings and the ground plane.
 

@@ -83,7 +83,7 @@ class Simulation:
     def __init__(self, session: SimSession, world: WorldSpec, robot_spec: RobotSpec,
                  rng: np.random.Generator, physics_hz: float | None = None, *,
                  layout: SceneLayout = DEFAULT_LAYOUT) -> None:
-        session.reset(physics_hz)
+        session.ensure_empty(physics_hz)
         self.session = session
         self.world = world
         self.robot_spec = robot_spec
