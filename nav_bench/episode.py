@@ -21,6 +21,7 @@ from nav_bench.errors import InputError, PlannerError
 from nav_bench.planners.base import Command, Observation, Planner
 from nav_bench.planners.registry import full_params, make_planner
 from nav_bench.specs import PlannerSetSpec, RobotSpec, WorldSpec, load_robot
+from nav_bench.world.geometry import polyline_length
 
 OUTCOMES = ("reached", "timeout", "stuck", "error")
 
@@ -280,7 +281,7 @@ def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,
     arrays["movers"] = arrays["movers"].reshape(len(rec["movers"]), len(world.movers), 2)
     xy = arrays["true_pose"][:, :2]
 
-    travelled = metrics.path_length(xy)
+    travelled = polyline_length(xy)
     optimal = metrics.optimal_length(world, radius)
     success = outcome == "reached"
     counts: dict[str, int] = {}

@@ -19,11 +19,9 @@ from matplotlib.collections import PatchCollection
 from matplotlib.colors import LogNorm
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.patches import Circle, Polygon
 
 from nav_bench.specs import WorldSpec
-from nav_bench.world.draw import box_corners, draw_world
-from nav_bench.world.geometry import static_geometry
+from nav_bench.world.draw import draw_world, obstacle_patches
 
 RISK_COLORS = {0: "#2ca02c", 50: "#ff9f1c", 100: "#d62728"}  # SAFE green, medium orange, high red
 TRUE_COLOR, ODOM_COLOR = "#1f4e9c", "#e377c2"
@@ -54,10 +52,7 @@ def grid_extent(state: dict[str, Any]) -> list[float]:
 
 def draw_outlines(ax: Axes, world: WorldSpec) -> None:
     """Thin outlines of the true static obstacles: visible over the planner's grids."""
-    geometry = static_geometry(world)
-    patches = [Polygon(c, closed=True) for c in box_corners(geometry.boxes)]
-    patches += [Circle((cx, cy), r) for cx, cy, r in geometry.cylinders]
-    ax.add_collection(PatchCollection(patches, facecolor="none", edgecolor="#3b3b3b", lw=0.7,
+    ax.add_collection(PatchCollection(obstacle_patches(world), facecolor="none", edgecolor="#3b3b3b", lw=0.7,
                                       zorder=2))
 
 

@@ -19,14 +19,6 @@ def stable_id(*parts: Any, length: int = 10) -> str:
     return hashlib.sha1(text.encode()).hexdigest()[:length]
 
 
-def path_length(xy: np.ndarray) -> float:
-    """Length (m) of the polyline through (T, 2) points."""
-    xy = np.asarray(xy, dtype=float)
-    if len(xy) < 2:
-        return 0.0
-    return float(np.hypot(*np.diff(xy, axis=0).T).sum())
-
-
 def spl(success: bool, optimal_m: float | None, travelled_m: float) -> float:
     """Success weighted by path length (Anderson et al. 2018): S * l / max(l, p)."""
     if not success or optimal_m is None:

@@ -31,7 +31,7 @@ from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from nav_bench.specs import WorldSpec
-from nav_bench.world.geometry import static_geometry
+from nav_bench.world.geometry import polyline_length, static_geometry
 from nav_bench.world.raster import Raster, rasterize
 
 SQRT2 = math.sqrt(2.0)
@@ -317,12 +317,6 @@ def tighten(raster: Raster, points: np.ndarray, sweeps: int = 8, tol: float = 1e
         if before - polyline_length(pts) < tol or not active.any():
             break
     return pts
-
-
-def polyline_length(points: np.ndarray) -> float:
-    """Length (m) of a polyline (N, 2)."""
-    p = np.asarray(points, dtype=float)
-    return float(np.hypot(*np.diff(p, axis=0).T).sum()) if len(p) > 1 else 0.0
 
 
 def raster_optimal_path(raster: Raster, start_xy: tuple[float, float],

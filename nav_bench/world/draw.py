@@ -7,24 +7,20 @@ from typing import Any
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.collections import PatchCollection
-from matplotlib.patches import Circle, Polygon
+from matplotlib.patches import Circle, Patch, Polygon
 
 from nav_bench.specs import WorldSpec
-from nav_bench.world.geometry import static_geometry
+from nav_bench.world.geometry import box_corners, static_geometry
 
 OBSTACLE_COLOR = "#3b3b3b"
 MOVER_COLOR = "#7b3fa0"
 
 
-def box_corners(boxes: np.ndarray) -> np.ndarray:
-    """(N, 4, 2) corners of (N, 5) boxes ``cx, cy, sx, sy, yaw``."""
-    hx, hy = boxes[:, 2] / 2, boxes[:, 3] / 2
-    local = np.stack([np.stack([-hx, -hy], 1), np.stack([hx, -hy], 1),
-                      np.stack([hx, hy], 1), np.stack([-hx, hy], 1)], axis=1)
-    c, s = np.cos(boxes[:, 4])[:, None], np.sin(boxes[:, 4])[:, None]
-    x = boxes[:, None, 0] + c * local[..., 0] - s * local[..., 1]
-    y = boxes[:, None, 1] + s * local[..., 0] + c * local[..., 1]
-    return np.stack([x, y], axis=-1)
+def obstacle_patches(world: WorldSpec) -> list[Patch]:
+    """Matplotlib patches of the world's static obstacles (boxes as polygons, cylinders as circles)."""
+    geometry = static_geometry(world)
+    patches: list[Patch] = [Polygon(c, closed=True) for c in box_corners(geometry.boxes)]
+    return patches + [Circle((cx, cy), r) for cx, cy, r in geometry.cylinders]
 
 
 def draw_world(ax: Axes, world: WorldSpec, *, faint: bool = False, show_start_goal: bool = True,
@@ -33,11 +29,8 @@ def draw_world(ax: Axes, world: WorldSpec, *, faint: bool = False, show_start_go
 
     ``faint`` draws the map light, as a backdrop for trajectories and planner grids.
     """
-    geometry = static_geometry(world)
     alpha = 0.25 if faint else 1.0
-    patches = [Polygon(c, closed=True) for c in box_corners(geometry.boxes)]
-    patches += [Circle((cx, cy), r) for cx, cy, r in geometry.cylinders]
-    ax.add_collection(PatchCollection(patches, facecolor=OBSTACLE_COLOR, edgecolor="none",
+    ax.add_collection(PatchCollection(obstacle_patches(world), facecolor=OBSTACLE_COLOR, edgecolor="none",
                                       alpha=alpha, zorder=1))
     if show_movers:
         for mover in world.movers:

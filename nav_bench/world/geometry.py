@@ -99,6 +99,34 @@ def static_geometry(world: WorldSpec) -> StaticGeometry:
     )
 
 
+def box_corners(boxes: np.ndarray) -> np.ndarray:
+    """(N, 4, 2) corners, counter-clockwise, of (N, 5) boxes ``cx, cy, sx, sy, yaw`` (m, rad)."""
+    b = np.asarray(boxes, dtype=float).reshape(-1, 5)
+    c, s = np.cos(b[:, 4])[:, None], np.sin(b[:, 4])[:, None]
+    signs = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]], dtype=float)
+    lx = signs[None, :, 0] * (b[:, 2] / 2)[:, None]
+    ly = signs[None, :, 1] * (b[:, 3] / 2)[:, None]
+    return np.stack([b[:, None, 0] + c * lx - s * ly, b[:, None, 1] + s * lx + c * ly], axis=-1)
+
+
+def box_signed_distance(points: np.ndarray, boxes: np.ndarray) -> np.ndarray:
+    """(K, N) signed distance (m) from (K, 2) points to (N, 5) boxes; negative inside."""
+    p = np.asarray(points, dtype=float).reshape(-1, 2)
+    b = np.asarray(boxes, dtype=float).reshape(-1, 5)
+    dx = p[:, None, 0] - b[None, :, 0]
+    dy = p[:, None, 1] - b[None, :, 1]
+    c, s = np.cos(b[:, 4]), np.sin(b[:, 4])
+    lx = np.abs(c * dx + s * dy) - b[:, 2] / 2  # box frame, minus half extents
+    ly = np.abs(-s * dx + c * dy) - b[:, 3] / 2
+    return np.hypot(np.maximum(lx, 0), np.maximum(ly, 0)) + np.minimum(np.maximum(lx, ly), 0)
+
+
+def polyline_length(points: np.ndarray) -> float:
+    """Length (m) of the polyline through (N, 2) points (0 for fewer than two)."""
+    p = np.asarray(points, dtype=float).reshape(-1, 2)
+    return float(np.hypot(*np.diff(p, axis=0).T).sum()) if len(p) > 1 else 0.0
+
+
 def signed_distances(geometry: StaticGeometry, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Signed distance from each point to every primitive (negative inside).
 
@@ -108,18 +136,7 @@ def signed_distances(geometry: StaticGeometry, points: np.ndarray) -> tuple[np.n
         ``(d_boxes, d_cylinders)`` of shapes (K, N) and (K, M), in m.
     """
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
-    b = geometry.boxes
-    if len(b):
-        dx = pts[:, None, 0] - b[None, :, 0]
-        dy = pts[:, None, 1] - b[None, :, 1]
-        c, s = np.cos(b[:, 4]), np.sin(b[:, 4])
-        lx = np.abs(c * dx + s * dy) - b[:, 2] / 2  # box frame, minus half extents
-        ly = np.abs(-s * dx + c * dy) - b[:, 3] / 2
-        outside = np.hypot(np.maximum(lx, 0), np.maximum(ly, 0))
-        inside = np.minimum(np.maximum(lx, ly), 0)
-        d_boxes = outside + inside
-    else:
-        d_boxes = np.zeros((len(pts), 0))
+    d_boxes = box_signed_distance(pts, geometry.boxes)
     cy = geometry.cylinders
     if len(cy):
         d_cyl = np.hypot(pts[:, None, 0] - cy[None, :, 0], pts[:, None, 1] - cy[None, :, 1]) - cy[:, 2]

@@ -20,34 +20,11 @@ import numpy as np
 from scipy import ndimage
 
 from nav_bench.world.generate.common import DECIMALS
+from nav_bench.world.geometry import box_corners, box_signed_distance
 
 Shape = tuple[str, np.ndarray]
 Region = tuple[float, float, float, float]  # xmin, ymin, xmax, ymax in m
 FLUSH_TOLERANCE = 2e-3  # m, "touching an edge" after rounding to the millimetre
-
-
-def box_corners(boxes: np.ndarray) -> np.ndarray:
-    """(N, 4, 2) corners of boxes (N, 5) ``cx, cy, sx, sy, yaw`` (m, rad)."""
-    b = np.asarray(boxes, dtype=float).reshape(-1, 5)
-    c, s = np.cos(b[:, 4]), np.sin(b[:, 4])
-    signs = np.array([[1, 1], [-1, 1], [-1, -1], [1, -1]], dtype=float)
-    lx = signs[None, :, 0] * (b[:, 2] / 2)[:, None]
-    ly = signs[None, :, 1] * (b[:, 3] / 2)[:, None]
-    x = b[:, None, 0] + c[:, None] * lx - s[:, None] * ly
-    y = b[:, None, 1] + s[:, None] * lx + c[:, None] * ly
-    return np.stack([x, y], axis=-1)
-
-
-def point_box_distance(points: np.ndarray, boxes: np.ndarray) -> np.ndarray:
-    """(K, N) signed distance (m) from points (K, 2) to boxes (N, 5); negative inside."""
-    p = np.asarray(points, dtype=float).reshape(-1, 2)
-    b = np.asarray(boxes, dtype=float).reshape(-1, 5)
-    dx = p[:, None, 0] - b[None, :, 0]
-    dy = p[:, None, 1] - b[None, :, 1]
-    c, s = np.cos(b[:, 4]), np.sin(b[:, 4])
-    lx = np.abs(c * dx + s * dy) - b[:, 2] / 2
-    ly = np.abs(-s * dx + c * dy) - b[:, 3] / 2
-    return np.hypot(np.maximum(lx, 0), np.maximum(ly, 0)) + np.minimum(np.maximum(lx, ly), 0)
 
 
 def boxes_overlap(box: np.ndarray, boxes: np.ndarray) -> np.ndarray:
@@ -76,17 +53,17 @@ def shape_gaps(shape: Shape, boxes: np.ndarray, discs: np.ndarray) -> np.ndarray
     boxes = np.asarray(boxes, dtype=float).reshape(-1, 5)
     discs = np.asarray(discs, dtype=float).reshape(-1, 3)
     if kind == "disc":
-        to_boxes = point_box_distance(p[None, :2], boxes)[0] - p[2]
+        to_boxes = box_signed_distance(p[None, :2], boxes)[0] - p[2]
         to_discs = np.hypot(discs[:, 0] - p[0], discs[:, 1] - p[1]) - discs[:, 2] - p[2]
         return np.concatenate([to_boxes, to_discs])
     if len(boxes):
-        d1 = point_box_distance(box_corners(p)[0], boxes).min(axis=0)
-        d2 = point_box_distance(box_corners(boxes).reshape(-1, 2), p).reshape(-1, 4).min(axis=1)
+        d1 = box_signed_distance(box_corners(p)[0], boxes).min(axis=0)
+        d2 = box_signed_distance(box_corners(boxes).reshape(-1, 2), p).reshape(-1, 4).min(axis=1)
         to_boxes = np.minimum(d1, d2)
         to_boxes[boxes_overlap(p, boxes)] = -1.0
     else:
         to_boxes = np.zeros(0)
-    to_discs = point_box_distance(discs[:, :2], p)[:, 0] - discs[:, 2]
+    to_discs = box_signed_distance(discs[:, :2], p)[:, 0] - discs[:, 2]
     return np.concatenate([to_boxes, to_discs])
 
 
@@ -151,7 +128,7 @@ def shape_mask(shape: Shape, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
     if kind == "disc":
         inside = np.hypot(pts[:, 0] - p[0], pts[:, 1] - p[1]) <= p[2]
     else:
-        inside = point_box_distance(pts, p)[:, 0] <= 0.0
+        inside = box_signed_distance(pts, p)[:, 0] <= 0.0
     out[r0:r1, c0:c1] = inside.reshape(gy.shape)
     return out
 
