@@ -99,6 +99,7 @@ class Trace:
 
     @classmethod
     def load(cls, path: str | Path) -> Trace:
+        """The whole trace written by :meth:`save`."""
         with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))
             state = dict(meta["planner_state"])
@@ -108,6 +109,18 @@ class Trace:
                        **{k: data[k] for k in ("t", "true_pose", "odom_pose", "cmd", "ranges",
                                                "movers")},
                        events=meta["events"], planner_state=state, row=meta["row"])
+
+
+def read_trace_world(path: str | Path) -> WorldSpec:
+    """Only the world of a stored trace (npz members load lazily: no arrays are read)."""
+    with np.load(path, allow_pickle=False) as data:
+        return WorldSpec.model_validate(json.loads(str(data["meta"]))["world"])
+
+
+def read_trace_positions(path: str | Path) -> np.ndarray:
+    """Only the (T, 2) true positions (m) of a stored trace."""
+    with np.load(path, allow_pickle=False) as data:
+        return np.asarray(data["true_pose"], dtype=float)[:, :2]
 
 
 @dataclass
@@ -158,7 +171,8 @@ def _check_command(cmd: Any, robot_v: float, robot_w: float) -> Command:
     if not (math.isfinite(cmd.v) and math.isfinite(cmd.omega)):
         raise PlannerError(f"planner returned a non-finite command {cmd}")
     # the drive saturates anyway; clipping here keeps the recorded command truthful
-    return Command(float(np.clip(cmd.v, -robot_v, robot_v)), float(np.clip(cmd.omega, -robot_w, robot_w)))
+    return Command(min(max(float(cmd.v), -robot_v), robot_v),
+                   min(max(float(cmd.omega), -robot_w), robot_w))
 
 
 def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,

@@ -10,7 +10,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Sequence
 from pathlib import Path
@@ -141,15 +140,6 @@ def success_within_time_by_world(rows: Sequence[dict[str, Any]], order: Sequence
     return path
 
 
-def _without_nulls(value: Any) -> Any:
-    """Drop null-valued keys (a dumped obstacle carries its unused kinds as null)."""
-    if isinstance(value, dict):
-        return {k: _without_nulls(v) for k, v in value.items() if v is not None}
-    if isinstance(value, list):
-        return [_without_nulls(v) for v in value]
-    return value
-
-
 def trace_path(run: Run, row: dict[str, Any]) -> Path:
     """Where a row's trace lies in its results folder."""
     rel = row.get("trace") or f"traces/{row.get('job_id')}.npz"
@@ -158,24 +148,24 @@ def trace_path(run: Run, row: dict[str, Any]) -> Path:
 
 def load_trajectory(path: Path) -> np.ndarray | None:
     """(T, 2) true positions from a stored trace, or None if it is missing or unreadable."""
+    from nav_bench.episode import read_trace_positions
+
     try:
-        with np.load(path, allow_pickle=False) as data:
-            return np.asarray(data["true_pose"], dtype=float)[:, :2]
+        return read_trace_positions(path)
     except (OSError, KeyError, ValueError):
         return None
 
 
 def world_of(rows: Sequence[dict[str, Any]], runs: Sequence[Run]) -> WorldSpec | None:
     """The true map of the rows' world: from a stored trace, else from the row's world_file."""
-    from nav_bench.specs import WorldSpec, load_world
+    from nav_bench.episode import read_trace_world
+    from nav_bench.specs import load_world
 
     by_name = {run.name: run for run in runs}
     for row in rows:
         run = by_name[row["run"]]
         try:
-            with np.load(trace_path(run, row), allow_pickle=False) as data:
-                meta = json.loads(str(data["meta"]))
-            return WorldSpec.model_validate(_without_nulls(meta["world"]))
+            return read_trace_world(trace_path(run, row))
         except Exception:  # no trace, an older format: try the world file
             continue
     for row in rows:
