@@ -64,6 +64,43 @@ def test_same_seed_gives_the_same_row_but_wall_time(open_room_result):
     np.testing.assert_array_equal(open_room_result.trace.true_pose, again.trace.true_pose)
 
 
+def test_a_reused_session_gives_the_rows_of_fresh_ones():
+    """A batch worker keeps one client across episodes; each episode must start from scratch:
+    the same rows (all but wall_s) and traces as episodes with clients of their own, also
+    after a world with movers, an episode that ended in an error and another physics rate."""
+    from nav_bench.sim.session import SimSession
+
+    dynamic = load_world(ROOT / "worlds" / "paper" / "dynamic.yaml")
+    room = load_world(OPEN_ROOM)
+    short = EpisodeSettings(time_s=8.0)
+    plays = [(dynamic, "eopc", short), (room, "goal_seek", short),
+             (dynamic, "goal_seek", EpisodeSettings(time_s=4.0, physics_hz=120.0)),
+             (room, "eopc", short)]
+
+    class Broken(Planner):
+        name = "broken"
+
+        def act(self, obs):
+            raise RuntimeError("boom")
+
+    with SimSession() as session:
+        reused = []
+        for i, (world, planner, settings) in enumerate(plays):
+            if i == 2:  # an episode that fails half-way leaves its bodies behind
+                run_episode(room, PlannerSetSpec(planner="goal_seek"), seed=1, session=session,
+                            planner_instance=Broken())
+            reused.append(run_episode(world, PlannerSetSpec(planner=planner), seed=5,
+                                      settings=settings, session=session))
+        assert session.client.getNumBodies() > 0  # still open: the caller owns it
+    for (world, planner, settings), again in zip(plays, reused, strict=True):
+        fresh = run_episode(world, PlannerSetSpec(planner=planner), seed=5, settings=settings)
+        assert {k: v for k, v in again.row.items() if k != "wall_s"} == \
+            {k: v for k, v in fresh.row.items() if k != "wall_s"}
+        np.testing.assert_array_equal(again.trace.true_pose, fresh.trace.true_pose)
+        np.testing.assert_array_equal(again.trace.ranges, fresh.trace.ranges)
+    assert reused[0].row["time_s"] == pytest.approx(8.0)  # the movers world played in full
+
+
 def test_different_seeds_differ_in_noise(open_room_result):
     world = load_world(OPEN_ROOM)
     other = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=4,

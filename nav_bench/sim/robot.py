@@ -29,7 +29,7 @@ from pybullet_utils.bullet_client import BulletClient
 
 from nav_bench.errors import RobotModelError
 from nav_bench.planners.base import Command, wrap_angle
-from nav_bench.sim.session import GROUP_ROBOT, quiet_c_stdout
+from nav_bench.sim.session import GROUP_ROBOT, ROBOT_MASK, quiet_c_stdout
 from nav_bench.specs import DriveSpec, RobotSpec
 
 _IDENTITY = (0.0, 0.0, 0.0, 1.0)
@@ -304,7 +304,7 @@ class DiffDriveRobot:
         c.changeDynamics(self.body_id, -1, linearDamping=0.0, angularDamping=0.0)
         for link in range(-1, c.getNumJoints(self.body_id)):
             # Own collision group: sonar rays skip the robot, its links never collide together.
-            c.setCollisionFilterGroupMask(self.body_id, link, GROUP_ROBOT, ~GROUP_ROBOT)
+            c.setCollisionFilterGroupMask(self.body_id, link, GROUP_ROBOT, ROBOT_MASK)
         # Bound methods once: BulletClient builds a new partial on every attribute access.
         self._motor = c.setJointMotorControlArray
         self._joint_states = c.getJointStates

@@ -27,6 +27,14 @@ GRAVITY = 9.81  # m/s^2
 # giving it its own group made stepping 4x slower with 1,000 boxes (measured), and horizontal
 # rays above the floor cannot hit it anyway.
 GROUP_ROBOT = 32
+# PyBullet's ray queries carry DEFAULT's group and apply their collisionFilterMask only after
+# the exact ray-shape test. Leaving DEFAULT out of the robot's mask makes the broadphase skip
+# the robot for every ray instead: its cylinders straddle all 42 sonar rays, and their
+# convex-cast tests cost ~2 us a ray (sense() 2-3x faster, readings identical). DEFAULT is the
+# group of dynamic (mass > 0) bodies, of which a world has none but the robot: give any future
+# dynamic obstacle a group of its own that ROBOT_MASK keeps.
+GROUP_DEFAULT = 1
+ROBOT_MASK = ~(GROUP_ROBOT | GROUP_DEFAULT)  # what the robot collides with: all static bodies
 RAY_MASK = ~GROUP_ROBOT  # what sonar rays may hit: everything but the robot
 
 

@@ -1,8 +1,9 @@
 """Fake episode functions for runner tests: no simulation, deterministic rows.
 
-Each takes an :class:`~nav_bench.suite.EpisodeJob` and returns an object with ``row`` and
-``trace`` like :func:`nav_bench.episode.run_episode`'s result. Module-level functions, so
-worker processes (forkserver, spawn, Dask) can import them by name.
+Each takes an :class:`~nav_bench.suite.EpisodeJob` and the worker's session (unused) and
+returns an object with ``row`` and ``trace`` like :func:`nav_bench.episode.run_episode`'s
+result. Module-level functions, so worker processes (forkserver, spawn, Dask) can import
+them by name.
 """
 
 from __future__ import annotations
@@ -36,18 +37,18 @@ def fake_row(job: EpisodeJob, wall_s: float = 0.0) -> dict[str, Any]:
     }
 
 
-def instant(job: EpisodeJob) -> FakeResult:
+def instant(job: EpisodeJob, session: Any = None) -> FakeResult:
     """Returns at once: measures the runner's own overhead."""
     return FakeResult(fake_row(job))
 
 
-def sleepy(job: EpisodeJob) -> FakeResult:
+def sleepy(job: EpisodeJob, session: Any = None) -> FakeResult:
     """Sleeps ``NAV_BENCH_FAKE_SLEEP`` seconds (default 0.3): a slow episode to be killed."""
     time.sleep(float(os.environ.get("NAV_BENCH_FAKE_SLEEP", "0.3")))
     return FakeResult(fake_row(job))
 
 
-def busy(job: EpisodeJob) -> FakeResult:
+def busy(job: EpisodeJob, session: Any = None) -> FakeResult:
     """Burns CPU for ``NAV_BENCH_FAKE_BUSY`` seconds (default 0.2): scaling with workers."""
     end = time.perf_counter() + float(os.environ.get("NAV_BENCH_FAKE_BUSY", "0.2"))
     x = 0
@@ -56,7 +57,7 @@ def busy(job: EpisodeJob) -> FakeResult:
     return FakeResult(fake_row(job))
 
 
-def seed_dependent(job: EpisodeJob) -> FakeResult:
+def seed_dependent(job: EpisodeJob, session: Any = None) -> FakeResult:
     """Seed 1 raises, seed 2 hangs, seed 3 kills its own process; others return at once."""
     if job.seed == 1:
         raise ValueError("fake episode failure")
@@ -68,7 +69,7 @@ def seed_dependent(job: EpisodeJob) -> FakeResult:
     return FakeResult(fake_row(job))
 
 
-def instant_traced(job: EpisodeJob) -> FakeResult:
+def instant_traced(job: EpisodeJob, session: Any = None) -> FakeResult:
     """Returns at once with a real-size trace (3000 cycles, 6 sonars): the parent's cost of
     storing a 300 s episode's trace is part of the runner overhead."""
     import numpy as np
