@@ -18,13 +18,13 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Iterable
 
 import numpy as np
 import pybullet
 
 from nav_bench.errors import SimulationError
 from nav_bench.planners.base import Command, RobotInfo, SonarInfo
+from nav_bench.sim.contacts import CONTACT_DISTANCE, ContactEpisodes, ContactWindow
 from nav_bench.sim.movers import MoverBodies
 from nav_bench.sim.robot import DiffDriveRobot
 from nav_bench.sim.scene import DEFAULT_LAYOUT, SceneLayout, StaticScene, build_static_scene
@@ -32,31 +32,6 @@ from nav_bench.sim.session import SimSession
 from nav_bench.sim.sonar import RayBundle, SonarArray, noisy_readings
 from nav_bench.specs import RobotSpec, WorldSpec
 from nav_bench.world.geometry import static_geometry
-
-# A manifold point counts as touching when its separation is below this (m). PyBullet keeps
-# contact points up to a few mm apart in its manifolds; those are near misses, not contacts.
-CONTACT_DISTANCE = 1e-3
-
-
-class ContactEpisodes:
-    """Counts contact episodes: touching a body after at least one step apart from it counts once.
-
-    Staying pressed against a wall is one episode; backing off and hitting it again is two.
-    One compound scene body holds many obstacles, so sliding from one into a touching
-    neighbour of the same body continues the episode.
-    """
-
-    def __init__(self) -> None:
-        self.count = 0
-        self.touching: frozenset[int] = frozenset()
-
-    def update(self, touching: Iterable[int]) -> int:
-        """Record the bodies touched in this physics step; returns the episodes that began."""
-        now = frozenset(touching)
-        new = len(now - self.touching)
-        self.count += new
-        self.touching = now
-        return new
 
 
 class Simulation:
@@ -72,17 +47,24 @@ class Simulation:
         rng: the episode's generator; sonar and odometry noise are drawn from it.
         physics_hz: physics rate; ``None`` keeps the session's.
         layout: how static obstacles are grouped into bodies (for benchmarks; keep the default).
+        contact_checks: ``"when_near"`` reads Bullet's contacts only in physics steps where the
+            robot could touch something (:class:`~nav_bench.sim.contacts.ContactWindow`);
+            ``"every_step"`` reads them always. The counts are the same; the first is cheaper.
 
     Attributes:
         robot_info: geometry and limits for the planner (from the URDF and the config).
         last_rays: rays of the last :meth:`sense` (``None`` before the first).
         timing: cumulative wall-clock seconds in ``"physics"`` (:meth:`step`) and
             ``"sensing"`` (:meth:`sense`).
+        contact_reads: physics steps in which Bullet's contact points were read.
     """
 
     def __init__(self, session: SimSession, world: WorldSpec, robot_spec: RobotSpec,
                  rng: np.random.Generator, physics_hz: float | None = None, *,
-                 layout: SceneLayout = DEFAULT_LAYOUT) -> None:
+                 layout: SceneLayout = DEFAULT_LAYOUT, contact_checks: str = "when_near") -> None:
+        if contact_checks not in ("when_near", "every_step"):
+            raise SimulationError(f"contact_checks must be 'when_near' or 'every_step', "
+                                  f"got {contact_checks!r}")
         session.ensure_empty(physics_hz)
         self.session = session
         self.world = world
@@ -93,8 +75,8 @@ class Simulation:
         gui = session.gui
         if gui:
             client.configureDebugVisualizer(pybullet.COV_ENABLE_RENDERING, 0)
-        self.scene: StaticScene = build_static_scene(client, static_geometry(world), gui=gui,
-                                                     layout=layout)
+        geometry = static_geometry(world)
+        self.scene: StaticScene = build_static_scene(client, geometry, gui=gui, layout=layout)
         self.movers = MoverBodies(client, list(world.movers), world.wall_height, gui=gui)
         self.robot = DiffDriveRobot(client, robot_spec, world.start_pose, self.dt)
         model = self.robot.model
@@ -121,6 +103,12 @@ class Simulation:
         self.timing = {"physics": 0.0, "sensing": 0.0}
         self._steps = 0
         self._contacts = ContactEpisodes()
+        self._contact_window = (ContactWindow(geometry, list(world.movers), model.radius,
+                                              max(model.wheel_radius) * spec.drive.max_wheel_speed,
+                                              model.wheel_base)
+                                if contact_checks == "when_near" else None)
+        self._contact_free_until = -math.inf  # sim time (s) until which nothing can be touched
+        self.contact_reads = 0  # physics steps whose contacts were read
         self._ground = session.ground_id
         self._robot_id = self.robot.body_id
         self._step_physics = client.stepSimulation
@@ -149,6 +137,7 @@ class Simulation:
         gain_l, gain_r = 1.0 + float(noise[0]), 1.0 + float(noise[1])
         robot, movers, dt = self.robot, self.movers, self.dt
         has_movers = bool(movers.body_ids)
+        free_until = self._contact_window_end((self._steps + n) * dt)
         try:
             for _ in range(n):
                 robot.before_physics_step()
@@ -157,11 +146,24 @@ class Simulation:
                 self._step_physics()
                 self._steps += 1
                 robot.after_physics_step(gain_l, gain_r)
-                self._contacts.update(self._touching())
+                if self._steps * dt > free_until:
+                    self._contacts.update(self._touching())
+                    self.contact_reads += 1
         except pybullet.error as exc:
             raise SimulationError(f"PyBullet failed while stepping: {exc}") from exc
         finally:
             self.timing["physics"] += time.perf_counter() - start
+
+    def _contact_window_end(self, t_end: float) -> float:
+        """Sim time (s) until which the robot surely touches nothing; renewed from its
+        clearance now when the current window ends before ``t_end``."""
+        window = self._contact_window
+        if window is None:
+            return -math.inf
+        if self._contact_free_until < t_end and not self._contacts.touching:
+            xy = self.robot.true_pose()[:2]
+            self._contact_free_until = self.t + window.free_for(xy, self.mover_positions())
+        return self._contact_free_until
 
     def _touching(self) -> set[int]:
         # the base link only: its body cylinder encloses the wheels in plan view, so anything
