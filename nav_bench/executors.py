@@ -40,16 +40,19 @@ from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from multiprocessing.connection import wait as wait_for
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 from nav_bench.errors import InputError, NavBenchError, UnknownNameError
 from nav_bench.suite import EpisodeJob
+
+if TYPE_CHECKING:  # imported for real in the workers only: PyBullet prints a banner at import
+    from nav_bench.sim.session import SimSession
 
 log = logging.getLogger(__name__)
 
 # (job, session) -> an object with .row (dict) and .trace. ``session`` is the worker's
 # SimSession, kept open from episode to episode, or None: make a client of your own.
-EpisodeFn = Callable[[EpisodeJob, Any], Any]
+EpisodeFn = Callable[[EpisodeJob, "SimSession | None"], Any]
 POLL_S = 0.2  # how often a waiting executor checks for a stop request (s)
 STARTUP_FAILURES = 3  # workers that die before they are ready, in a row, before giving up
 # imported once by the forkserver (its workers start with them loaded); nothing that prints
@@ -76,7 +79,7 @@ class JobOutcome:
     trace: Any | None
 
 
-def run_job(job: EpisodeJob, session: Any = None) -> Any:
+def run_job(job: EpisodeJob, session: SimSession | None = None) -> Any:
     """The real episode function: play ``job`` with :func:`nav_bench.episode.run_episode`,
     in ``session`` (a :class:`~nav_bench.sim.session.SimSession`) when one is given."""
     from nav_bench.episode import EpisodeSettings, run_episode
@@ -114,7 +117,8 @@ def finish_row(row: dict[str, Any], job: EpisodeJob) -> dict[str, Any]:
     return out
 
 
-def execute_job(job: EpisodeJob, episode_fn: EpisodeFn, session: Any = None) -> JobOutcome:
+def execute_job(job: EpisodeJob, episode_fn: EpisodeFn,
+                session: SimSession | None = None) -> JobOutcome:
     """Play one job (in ``session``, if given); any exception becomes an ``error`` row with
     its traceback."""
     t0 = time.perf_counter()

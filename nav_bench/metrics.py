@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from nav_bench.specs import Mover, WorldSpec
-from nav_bench.world.geometry import clearance, static_geometry
+from nav_bench.world.geometry import StaticGeometry, clearance, static_geometry
 
 
 def stable_id(*parts: Any, length: int = 10) -> str:
@@ -34,22 +34,33 @@ def mover_radius(mover: Mover) -> float:
     return float(np.hypot(sx, sy) / 2)
 
 
+def footprint_clearance(geometry: StaticGeometry, xy: np.ndarray, robot_radius: float,
+                        mover_radii: np.ndarray | None = None,
+                        mover_xy: np.ndarray | None = None) -> np.ndarray:
+    """(T,) gap (m) between the robot's footprint disc at each of (T, 2) positions and the
+    nearest obstacle; negative means overlap.
+
+    Static geometry is exact; movers (``mover_radii`` (M,) m, ``mover_xy`` (T, M, 2) m) count
+    by their bounding discs (:func:`mover_radius`), so a box mover's gap is slightly small.
+    """
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    gaps = clearance(geometry, xy)
+    if mover_xy is not None and mover_radii is not None and len(mover_radii):
+        d = np.linalg.norm(np.asarray(mover_xy, dtype=float) - xy[:, None, :], axis=2)
+        gaps = np.minimum(gaps, (d - mover_radii[None, :]).min(axis=1))
+    return gaps - robot_radius
+
+
 def min_clearance(world: WorldSpec, xy: np.ndarray, robot_radius: float,
                   mover_xy: np.ndarray | None = None) -> float:
-    """Smallest distance (m) from the robot's edge to true geometry along (T, 2) positions.
-
-    Static geometry is exact; movers (``mover_xy`` of shape (T, M, 2)) count by their bounding
-    disc, so a box mover's clearance is slightly conservative. Negative means overlap.
-    """
+    """Smallest gap (m) between the robot's edge and true geometry along (T, 2) positions
+    (:func:`footprint_clearance`; movers at ``mover_xy`` (T, M, 2)). Negative means overlap."""
     xy = np.asarray(xy, dtype=float).reshape(-1, 2)
     if len(xy) == 0:
         return float("nan")
-    best = float(clearance(static_geometry(world), xy).min())
-    if mover_xy is not None and len(world.movers):
-        radii = np.array([mover_radius(m) for m in world.movers])
-        d = np.linalg.norm(np.asarray(mover_xy)[:, :, :] - xy[:, None, :], axis=2) - radii[None, :]
-        best = min(best, float(d.min()))
-    return best - robot_radius
+    radii = np.array([mover_radius(m) for m in world.movers], dtype=float)
+    return float(footprint_clearance(static_geometry(world), xy, robot_radius, radii,
+                                     mover_xy).min())
 
 
 @lru_cache(maxsize=64)

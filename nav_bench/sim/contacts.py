@@ -13,9 +13,9 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from nav_bench.metrics import mover_radius
+from nav_bench.metrics import footprint_clearance, mover_radius
 from nav_bench.specs import Mover
-from nav_bench.world.geometry import StaticGeometry, clearance
+from nav_bench.world.geometry import StaticGeometry
 
 # A manifold point counts as touching when its separation is below this (m). PyBullet keeps
 # contact points up to a few mm apart in its manifolds; those are near misses, not contacts.
@@ -79,11 +79,8 @@ class ContactWindow:
     def clearance(self, xy: np.ndarray, mover_xy: np.ndarray) -> float:
         """Gap (m) between the robot's footprint at ``xy`` (2,) and the nearest obstacle;
         ``mover_xy`` (M, 2) are the movers' positions now."""
-        gap = float(clearance(self.geometry, np.asarray(xy, dtype=float).reshape(1, 2))[0])
-        if len(self.mover_radii):
-            d = np.hypot(*(np.asarray(mover_xy, dtype=float) - xy).T) - self.mover_radii
-            gap = min(gap, float(d.min()))
-        return gap - self.robot_radius
+        return float(footprint_clearance(self.geometry, xy, self.robot_radius, self.mover_radii,
+                                         np.asarray(mover_xy, dtype=float)[None])[0])
 
     def free_for(self, xy: np.ndarray, mover_xy: np.ndarray) -> float:
         """Seconds during which the robot at ``xy`` surely touches nothing (0: check now)."""
