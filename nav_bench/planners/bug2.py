@@ -28,19 +28,21 @@ import numpy as np
 
 from nav_bench.planners.base import Command, Observation, Param, Planner
 from nav_bench.planners.follow import (
+    FOLLOW,
+    GO,
     LEFT,
     RIGHT,
     STOP,
+    UNREACHABLE,
     EchoMemory,
     LoopDetector,
     WallFollower,
     arrival_speed,
+    corridor_half_width,
     free_along,
     obstacle_ahead,
     steer,
 )
-
-GO, FOLLOW, UNREACHABLE = "motion_to_goal", "follow_boundary", "unreachable"
 
 
 class Bug2(Planner):
@@ -111,7 +113,7 @@ class Bug2(Planner):
         to_goal = float(np.hypot(*(goal - xy)))
         heading = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
         v = min(p["v_max"], obs.robot.v_max)
-        half_width = obs.robot.radius + 0.05
+        half_width = corridor_half_width(obs.robot)
         cmd = STOP
         if self.mode == GO:
             ahead = obstacle_ahead(obs, p["hit_distance"], half_width)

@@ -17,6 +17,13 @@ from nav_bench.errors import InputError
 from nav_bench.planners.base import Command, Observation, RobotInfo, wrap_angle
 
 LEFT, RIGHT = 1, -1  # side signs: +1 = the robot's left (+y), -1 = its right
+# modes of the bug family (Bug2, TangentBug): drive to the goal, follow a boundary, give up
+GO, FOLLOW, UNREACHABLE = "motion_to_goal", "follow_boundary", "unreachable"
+
+
+def corridor_half_width(robot: RobotInfo) -> float:
+    """Half width (m) of the corridor ahead the robot sweeps, with 5 cm to spare on each side."""
+    return robot.radius + 0.05
 
 
 # ----------------------------------------------------------------------------- sonar geometry
@@ -208,7 +215,7 @@ class WallFollower:
     def act(self, obs: Observation) -> Command:
         robot = obs.robot
         s = self.side
-        half_width = robot.radius + 0.05
+        half_width = corridor_half_width(robot)
         wall = estimate_wall(obs, s, lost=self.distance + 0.6)
         self._since_wall = 0 if wall is not None else self._since_wall + 1
         if obstacle_ahead(obs, self.front, half_width) < self.front:

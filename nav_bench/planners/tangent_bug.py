@@ -45,20 +45,22 @@ import numpy as np
 
 from nav_bench.planners.base import Command, Observation, Param, Planner, wrap_angle
 from nav_bench.planners.follow import (
+    FOLLOW,
+    GO,
     LEFT,
     RIGHT,
     STOP,
+    UNREACHABLE,
     EchoMemory,
     LoopDetector,
     WallFollower,
     arrival_speed,
+    corridor_half_width,
     echo_mask,
     estimate_wall,
     obstacle_ahead,
     steer,
 )
-
-GO, FOLLOW, UNREACHABLE = "motion_to_goal", "follow_boundary", "unreachable"
 
 
 def range_function(points: np.ndarray, xy: np.ndarray, grow: float,
@@ -189,7 +191,7 @@ class TangentBug(Planner):
             return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
         if self.mode == UNREACHABLE:
             return STOP
-        ahead = obstacle_ahead(obs, p["front_distance"], obs.robot.radius + 0.05)
+        ahead = obstacle_ahead(obs, p["front_distance"], corridor_half_width(obs.robot))
         if free:
             self._endpoint = None
             self.h_min, self.stall = min(self.h_min, d_goal), 0
@@ -240,7 +242,7 @@ class TangentBug(Planner):
         if not self.acquired:  # first approach the boundary: head for the nearest echo
             wall = estimate_wall(obs, self.side, lost=p["wall_distance"] + 0.6)
             close = wall is not None and wall.distance <= p["wall_distance"] + 0.1
-            near = obstacle_ahead(obs, p["front_distance"], obs.robot.radius + 0.05) < p["front_distance"]
+            near = obstacle_ahead(obs, p["front_distance"], corridor_half_width(obs.robot)) < p["front_distance"]
             pts = self.memory.points(xy, self._sensing_range(obs))
             self.acquired = close or near or len(pts) == 0
             if not self.acquired:
