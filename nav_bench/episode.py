@@ -312,9 +312,7 @@ def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,
     travelled = polyline_length(xy)
     optimal = metrics.optimal_length(world, radius)
     success = outcome == "reached"
-    counts: dict[str, int] = {}
-    for e in events:
-        counts[e["kind"]] = counts.get(e["kind"], 0) + 1
+    counts = count_events(events)
     row: dict[str, Any] = {
         "world": world.name,
         "world_file": world_file,
@@ -344,6 +342,21 @@ def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,
     timing = {**timing_sim, "planning": plan_s, "other": other, "total": wall}
     trace = Trace(world=world, events=events, planner_state=state, row=row, **arrays)
     return EpisodeResult(row=row, trace=trace, timing=timing)
+
+
+def count_events(events: list[dict[str, Any]]) -> dict[str, int]:
+    """Planner events by kind, for the row's ``events``. An event whose data names a
+    ``trigger`` (EO/PC's re-plans: ``eo_stop``, ``blocked_path``) is also counted as
+    ``kind.trigger``, so ``replan`` stays the total and ``replan.eo_stop`` one of its parts."""
+    counts: dict[str, int] = {}
+    for e in events:
+        keys = [e["kind"]]
+        trigger = (e.get("data") or {}).get("trigger")
+        if isinstance(trigger, str):
+            keys.append(f"{e['kind']}.{trigger}")
+        for key in keys:
+            counts[key] = counts.get(key, 0) + 1
+    return counts
 
 
 def _draw_gui(sim: Any, agent: Planner, obs: Observation, events: list[dict[str, Any]]) -> None:
