@@ -42,7 +42,7 @@ import re
 from collections.abc import Iterable
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any
 
 from pydantic import Field, PositiveFloat
 
@@ -81,6 +81,10 @@ class InlinePlannerSet(Strict):
     params: dict[str, Any] = Field(default_factory=dict)
 
 
+DEFAULT_WALL_S = 900.0  # a hung episode is killed after this many wall-clock seconds
+MAX_WALL_S = 7 * 86400.0
+
+
 class Limits(Strict):
     """Episode limits. A key left out takes the episode's default (``EpisodeSettings``)."""
 
@@ -90,10 +94,11 @@ class Limits(Strict):
     goal_tolerance: PositiveFloat | None = None  # m
     control_hz: PositiveFloat | None = None  # planner cycles per second
     physics_hz: PositiveFloat | None = None  # physics steps per second
-    wall_s: PositiveFloat | None = None  # wall-clock s per episode before it is killed; null: 900
+    # wall-clock s per episode before it is killed; null: 900. At most a week: a bound a
+    # timer can hold
+    wall_s: Annotated[float, Field(gt=0.0, le=MAX_WALL_S)] | None = None
 
 
-DEFAULT_WALL_S = 900.0  # a hung episode is killed after this many wall-clock seconds
 
 
 class SuiteFile(Strict):
@@ -378,6 +383,7 @@ def suite_from_data(data: Any, *, file: str | None = None, index: LineIndex | No
         raise _err(str(exc), file, index, ("seeds",)) from None
     settings, wall_s = _settings(top.limits, file, index)
     worlds = _worlds(top.worlds, resolver, file, index)
+    _check_goal_distances(worlds, settings["goal_tolerance"], file, index)
     planners = _planners(top.planners, resolver, file, index)
     robots = _robots(top.robot, resolver, file, index)
     return Suite(name=name, description=top.description, file=file, cwd=str(cwd_path.resolve()),
@@ -422,6 +428,19 @@ def _worlds(entries: list[Any], resolver: _Resolver, file: str | None,
             by_name[item.name] = item
             items.append(item)
     return items
+
+
+def _check_goal_distances(worlds: list[WorldItem], tolerance: float, file: str | None,
+                          index: LineIndex | None) -> None:
+    """Every world's goal lies beyond the suite's success radius from its start."""
+    from nav_bench.world.geometry import check_goal_distance
+
+    for item in worlds:
+        try:
+            check_goal_distance(item.spec, tolerance)
+        except SpecError as exc:
+            raise _err(f"world {item.name!r} ({_where(item)}): goal {exc.problem}", file, index,
+                       ("limits", "goal_tolerance")) from None
 
 
 def _where(item: WorldItem) -> str:

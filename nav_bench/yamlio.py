@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import copy
 import difflib
+import math
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -119,6 +120,9 @@ class _Composer:
                 raise self.error(f"cannot read value {value!r:.40}: "
                                  f"{getattr(exc, 'problem', None) or exc}",
                                  event.start_mark.line + 1, loc) from None
+        if isinstance(out, float) and not math.isfinite(out):
+            raise self.error(f"expected a finite number, got {value}", event.start_mark.line + 1,
+                             loc)
         if plain and isinstance(out, (str, int, float, type(None))):  # immutable: shareable
             self._plain[value] = out
         return out
@@ -317,6 +321,8 @@ def _describe(err: dict[str, Any], model: type[BaseModel], loc: Loc) -> str:
         return f"unknown key; {hint}allowed here: {', '.join(allowed)}"
     if kind == "missing":
         return "required key is missing"
+    if kind == "finite_number":
+        return f"expected a finite number (got {err.get('input')!r})"
     if "input" in err and kind not in ("value_error", "assertion_error"):
         value = err["input"]
         shown = repr(value)

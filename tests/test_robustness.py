@@ -128,3 +128,99 @@ def test_yaml_values_and_lines_match_pyyaml_on_the_shipped_files():
         data, index = load_yaml(path)
         assert data == yaml.safe_load(path.read_text()), path
         assert index.line_of(()) is not None
+
+
+# --------------------------------------------------------------------------- class 1: non-finite
+def _world_with(tmp_path: Path, old: str, new: str) -> Path:
+    assert old in WORLD
+    path = tmp_path / "w.yaml"
+    path.write_text(WORLD.replace(old, new))
+    return path
+
+
+@pytest.mark.parametrize("old, new, line, key", [
+    ("center: [2.0, 0.5]", "center: [.nan, 0.5]", 6, "obstacles[0].box.center[0]"),
+    ("size: [0.4, 0.3]", "size: [.inf, 0.3]", 6, "obstacles[0].box.size[0]"),
+    ("yaw_deg: 10", "yaw_deg: -.inf", 6, "obstacles[0].box.yaw_deg"),
+    ("start: [0.5, 1.5, 0]", "start: [0.5, 1.5, .NaN]", 3, "start[2]"),
+    ("size: [4.0, 3.0]", "size: [4.0, .Inf]", 2, "size[1]"),
+])
+def test_non_finite_numbers_in_a_world_are_refused_at_their_line(tmp_path, capsys, old, new,
+                                                                   line, key):
+    path = _world_with(tmp_path, old, new)
+    _refused(capsys, ["validate", str(path)], f"{path}:{line}: {key}: expected a finite number")
+
+
+def test_non_finite_numbers_in_movers_walls_and_robots_are_refused(tmp_path, capsys):
+    path = tmp_path / "m.yaml"
+    path.write_text(WORLD + "  - wall: {from: [1, 1], to: [1, .nan]}\nmovers:\n"
+                    "  - {shape: {cylinder: {radius: 0.2}}, path: [[1, 2], [3, 2]], speed: .inf}\n")
+    _refused(capsys, ["validate", str(path)], "obstacles[1].wall.to[1]: expected a finite number")
+    robot = tmp_path / "robot.yaml"
+    robot.write_text("urdf: diffbot.urdf\nsonar: {noise_std: .nan}\n")
+    _refused(capsys, ["validate", str(robot)], f"{robot}:2: sonar.noise_std: expected a finite")
+
+
+def test_a_world_built_in_code_with_nan_is_refused_too():
+    from nav_bench.specs import world_from_data
+
+    with pytest.raises(SpecError, match=r"size\[0\]: expected a finite number"):
+        world_from_data({"size": [float("nan"), 3], "start": [1, 1], "goal": [2, 2]})
+    with pytest.raises(SpecError, match=r"movers\[0\]\.speed: expected a finite number"):
+        world_from_data({"size": [4, 3], "start": [1, 1], "goal": [3, 2], "movers": [
+            {"shape": {"cylinder": {"radius": 0.2}}, "path": [[1, 2], [3, 2]],
+             "speed": float("inf")}]})
+
+
+@pytest.mark.parametrize("planner", ["eopc:RR=.nan", "eopc:RR=.inf", "goal_seek:v_max=-.inf"])
+def test_non_finite_planner_parameters_are_refused_on_the_command_line(capsys, planner):
+    _refused(capsys, ["episode", str(ROOT / "worlds/paper/open_room.yaml"), "--planner", planner],
+             "expects a finite number")
+
+
+def test_non_finite_planner_parameters_in_a_set_file_name_their_line(tmp_path, capsys):
+    path = tmp_path / "p.yaml"
+    path.write_text("planner: eopc\nparams:\n  RR: .nan\n")
+    _refused(capsys, ["validate", str(path)], f"{path}:3: params.RR: expected a finite number")
+
+
+def test_non_finite_episode_limits_are_refused(capsys):
+    _refused(capsys, ["episode", str(ROOT / "worlds/paper/open_room.yaml"), "--planner",
+                      "goal_seek", "--time-limit", "nan"], "time_s must be a finite number")
+
+
+# --------------------------------------------------------------------------- class 4: semantics
+@pytest.mark.parametrize("goal", ["[0.5, 1.5]", "[0.7, 1.6]"])
+def test_a_goal_within_the_success_radius_of_the_start_is_refused(tmp_path, capsys, goal):
+    path = _world_with(tmp_path, "goal: [3.5, 1.5]", f"goal: {goal}")
+    _refused(capsys, ["validate", str(path)], f"{path}:4: goal:", "within the success radius")
+
+
+def test_a_suite_whose_success_radius_covers_a_start_is_refused(tmp_path, capsys):
+    world = tmp_path / "w.yaml"
+    world.write_text(WORLD)
+    suite = tmp_path / "s.yaml"
+    suite.write_text(f"worlds: [{world}]\nplanners: {{a: goal_seek}}\n"
+                     "limits: {goal_tolerance: 3.5}\n")
+    _refused(capsys, ["validate", str(suite)], f"{suite}:3: limits.goal_tolerance:",
+             "within the success radius of 3.5 m")
+
+
+@pytest.mark.parametrize("params, key", [
+    ("{planner: eopc, params: {lambda1: 0.2}}", "lambda1"),
+    ("{planner: eopc, params: {free_below: 90}}", "free_below"),
+    ("{planner: goal_seek, params: {slow_distance: [0.2, 1.0]}}", "slow_distance"),
+])
+def test_cross_parameter_rules_are_checked_before_simulating(tmp_path, capsys, params, key):
+    world = tmp_path / "w.yaml"
+    world.write_text(WORLD)
+    suite = tmp_path / "s.yaml"
+    suite.write_text(f"worlds: [{world}]\nplanners:\n  a: {params}\n")
+    _refused(capsys, ["validate", str(suite)], f"{suite}:3: planners.a.params.{key}:")
+    _refused(capsys, ["run", str(suite), "--out", str(tmp_path / "out")])
+    assert not (tmp_path / "out").exists()
+
+
+def test_cross_parameter_rules_on_the_command_line(capsys):
+    _refused(capsys, ["episode", str(ROOT / "worlds/paper/open_room.yaml"), "--planner",
+                      "eopc:lambda1=0.2"], "lambda1 > lambda2")
