@@ -224,3 +224,27 @@ def test_cross_parameter_rules_are_checked_before_simulating(tmp_path, capsys, p
 def test_cross_parameter_rules_on_the_command_line(capsys):
     _refused(capsys, ["episode", str(ROOT / "worlds/paper/open_room.yaml"), "--planner",
                       "eopc:lambda1=0.2"], "lambda1 > lambda2")
+
+
+# --------------------------------------------------------------------------- class 2: memory budget
+def test_a_world_whose_rasters_exceed_the_memory_budget_is_refused(tmp_path, capsys):
+    path = _world_with(tmp_path, "size: [4.0, 3.0]", "size: [100000, 100000]")
+    _refused(capsys, ["validate", str(path)], f"{path}:2: size:", "over the memory budget")
+    _refused(capsys, ["show", str(path), "-o", str(tmp_path / "w.png")], "over the memory budget")
+    assert not (tmp_path / "w.png").exists()
+
+
+def test_rasters_and_planner_grids_refuse_to_allocate_past_the_budget():
+    from nav_bench.errors import InputError
+    from nav_bench.mapping.grid import GridFrame
+    from nav_bench.world.geometry import static_geometry
+    from nav_bench.world.raster import rasterize
+
+    world = yamlio.parse_yaml(WORLD)[0]
+    from nav_bench.specs import world_from_data
+
+    geometry = static_geometry(world_from_data(world))
+    with pytest.raises(InputError, match="memory budget"):
+        rasterize(geometry, 1e-4)
+    with pytest.raises(InputError, match="cells a planner's map may have"):
+        GridFrame.from_bounds((0, 0, 1000, 1000), 0.01)

@@ -183,8 +183,14 @@ def check_world_geometry(world: WorldSpec, *, file: str | Path | None = None,
                          index: LineIndex | None = None) -> None:
     """Refuse a world whose start or goal lies outside it or inside an obstacle, or whose goal
     lies within the default success radius of its start."""
-    geometry = static_geometry(world)
+    from nav_bench.world.raster import RASTER_CELL_M, grid_shape, raster_budget_problem
+
     sx, sy = world.size
+    problem = raster_budget_problem(grid_shape((0.0, 0.0, sx, sy), RASTER_CELL_M), RASTER_CELL_M)
+    if problem is not None:
+        raise SpecError(f"a {sx:g} m x {sy:g} m world {problem}", file=file, key_path="size",
+                        line=index.line_of(("size",)) if index else None)
+    geometry = static_geometry(world)
     for key, xy in (("start", tuple(world.start[:2])), ("goal", tuple(world.goal))):
         line = index.line_of((key,)) if index else None
         if not (0.0 < xy[0] < sx and 0.0 < xy[1] < sy):
