@@ -6,6 +6,8 @@ line and key where there is one), never a traceback.
 
 from __future__ import annotations
 
+import os
+import sys
 from pathlib import Path
 
 import pytest
@@ -16,12 +18,15 @@ from nav_bench.errors import SpecError
 from nav_bench.yamlio import load_yaml, parse_yaml
 
 ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:  # worker processes import tests.helpers.* by name
+    sys.path.insert(0, str(ROOT))
 
 WORLD = """\
 name: w
 size: [4.0, 3.0]
 start: [0.5, 1.5, 0]
 goal: [3.5, 1.5]
+wall_height: 0.5
 obstacles:
   - box: {center: [2.0, 0.5], size: [0.4, 0.3], yaw_deg: 10}
 """
@@ -139,9 +144,9 @@ def _world_with(tmp_path: Path, old: str, new: str) -> Path:
 
 
 @pytest.mark.parametrize("old, new, line, key", [
-    ("center: [2.0, 0.5]", "center: [.nan, 0.5]", 6, "obstacles[0].box.center[0]"),
-    ("size: [0.4, 0.3]", "size: [.inf, 0.3]", 6, "obstacles[0].box.size[0]"),
-    ("yaw_deg: 10", "yaw_deg: -.inf", 6, "obstacles[0].box.yaw_deg"),
+    ("center: [2.0, 0.5]", "center: [.nan, 0.5]", 7, "obstacles[0].box.center[0]"),
+    ("size: [0.4, 0.3]", "size: [.inf, 0.3]", 7, "obstacles[0].box.size[0]"),
+    ("yaw_deg: 10", "yaw_deg: -.inf", 7, "obstacles[0].box.yaw_deg"),
     ("start: [0.5, 1.5, 0]", "start: [0.5, 1.5, .NaN]", 3, "start[2]"),
     ("size: [4.0, 3.0]", "size: [4.0, .Inf]", 2, "size[1]"),
 ])
@@ -184,9 +189,13 @@ def test_non_finite_planner_parameters_in_a_set_file_name_their_line(tmp_path, c
     _refused(capsys, ["validate", str(path)], f"{path}:3: params.RR: expected a finite number")
 
 
-def test_non_finite_episode_limits_are_refused(capsys):
-    _refused(capsys, ["episode", str(ROOT / "worlds/paper/open_room.yaml"), "--planner",
-                      "goal_seek", "--time-limit", "nan"], "time_s must be a finite number")
+@pytest.mark.parametrize("key", ["time_s", "stuck_s", "goal_tolerance", "control_hz"])
+def test_non_finite_episode_settings_are_refused(key):
+    from nav_bench.episode import EpisodeSettings
+    from nav_bench.errors import InputError
+
+    with pytest.raises(InputError, match=f"{key} must be a finite number"):
+        EpisodeSettings(**{key: float("nan")})
 
 
 # --------------------------------------------------------------------------- class 4: semantics
@@ -248,3 +257,218 @@ def test_rasters_and_planner_grids_refuse_to_allocate_past_the_budget():
         rasterize(geometry, 1e-4)
     with pytest.raises(InputError, match="cells a planner's map may have"):
         GridFrame.from_bounds((0, 0, 1000, 1000), 0.01)
+
+
+# --------------------------------------------------------------------------- class 5: user's code
+def test_a_planner_module_that_raises_on_import_is_one_line(tmp_path, capsys, monkeypatch):
+    (tmp_path / "broken_planner_mod.py").write_text("import math\n\nx = 1 / 0\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    err = _refused(capsys, ["episode", str(ROOT / "worlds/paper/open_room.yaml"), "--planner",
+                            "broken_planner_mod:Planner"],
+                   "planner module 'broken_planner_mod' raised on import at",
+                   "broken_planner_mod.py:3: ZeroDivisionError")
+    assert len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["episode", "w.yaml", "--seed", "-1"], "--seed: expected a whole number >= 0, got -1"),
+    (["run", "s.yaml", "--workers", "0"], "--workers: expected a whole number >= 1"),
+    (["episode", "w.yaml", "--time-limit", "nan"], "--time-limit: expected a finite number > 0"),
+    (["generate", "maze", "--seed", "-3", "-o", "x.yaml"], "--seed: expected a whole number"),
+    (["import", "movingai", "m.map", "--cell", "inf", "-o", "x.yaml"], "--cell: expected a"),
+    (["import", "ros", "m.yaml", "--start", "nan,1", "-o", "x.yaml"], "expected finite X,Y"),
+])
+def test_bad_numbers_on_the_command_line_are_one_line_exit_2(capsys, argv, needle):
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    err = capsys.readouterr().err
+    assert info.value.code == 2
+    assert needle in err and len(err.strip().splitlines()) == 1, err
+
+
+def _tiny_suite(tmp_path: Path, seeds: int = 1) -> Path:
+    from tests.helpers import tiny
+
+    return tiny.write_suite(tmp_path, seeds=seeds)
+
+
+def test_out_naming_a_file_is_bad_input(tmp_path, capsys):
+    suite = _tiny_suite(tmp_path)
+    target = tmp_path / "a_file"
+    target.write_text("mine\n")
+    _refused(capsys, ["run", str(suite), "--out", str(target), "--quiet"], "is a file")
+    assert target.read_text() == "mine\n"
+
+
+@pytest.mark.skipif(os.name != "posix" or os.geteuid() == 0,
+                    reason="root writes into read-only folders")
+def test_out_in_a_read_only_folder_is_bad_input(tmp_path, capsys):
+    suite = _tiny_suite(tmp_path)
+    locked = tmp_path / "ro"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        _refused(capsys, ["run", str(suite), "--out", str(locked / "out"), "--quiet"],
+                 "cannot write the results folder")
+    finally:
+        locked.chmod(0o700)
+
+
+def test_an_os_error_is_one_line_not_a_traceback(tmp_path, capsys):
+    code = main(["show", str(ROOT / "worlds/paper/open_room.yaml"), "-o",
+                 str(tmp_path / "no_such_folder" / "w.png")])
+    err = capsys.readouterr().err
+    assert code == 1 and "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert "no_such_folder" in err
+
+
+# --------------------------------------------------------------------------- class 6: user's files
+def test_out_into_a_folder_with_the_users_files_is_refused(tmp_path, capsys):
+    suite = _tiny_suite(tmp_path)
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "report.md").write_text("my notes\n")
+    (out / "summary.csv").write_text("a,b\n")
+    _refused(capsys, ["run", str(suite), "--out", str(out), "--quiet"],
+             "is not empty and holds no run")
+    assert sorted(p.name for p in out.iterdir()) == ["report.md", "summary.csv"]
+    assert (out / "report.md").read_text() == "my notes\n"
+
+
+def test_a_second_writer_is_refused_naming_the_first(tmp_path):
+    from nav_bench.errors import InputError
+    from nav_bench.runner import run_suite
+    from nav_bench.store import ResultsStore
+    from tests.helpers import fake_episodes
+
+    suite = _tiny_suite(tmp_path)
+    out = run_suite(suite, workers=1, out=tmp_path / "out", progress=False,
+                    episode_fn=fake_episodes.instant)
+    first = ResultsStore(out)
+    first.lock()  # as a live run (or a first --resume) holds it
+    try:
+        with pytest.raises(InputError, match=rf"being written by another nav-bench run "
+                                             rf"\(process {os.getpid()}\)"):
+            run_suite(None, resume=out, workers=1, progress=False,
+                      episode_fn=fake_episodes.instant)
+    finally:
+        first.unlock()
+    run_suite(None, resume=out, workers=1, progress=False, episode_fn=fake_episodes.instant)
+    assert len(ResultsStore(out).rows()) == 4
+
+
+# --------------------------------------------------------------------------- class 7: disk full
+def test_a_full_disk_stops_the_run_truthfully_and_resume_redoes_lost_traces(tmp_path,
+                                                                              monkeypatch):
+    import errno
+    import json
+
+    from nav_bench import runner, store
+    from nav_bench.episode import Trace
+    from nav_bench.runner import RunStorageError, run_suite
+    from nav_bench.store import ResultsStore
+    from tests.helpers import fake_episodes
+
+    suite = _tiny_suite(tmp_path, seeds=3)  # 12 episodes
+    out = tmp_path / "out"
+    saved = {"n": 0}
+    real_save, real_write = Trace.save, store.atomic_write_text
+
+    def save(self, path):  # the fourth trace finds the disk full
+        saved["n"] += 1
+        if saved["n"] >= 4:
+            raise OSError(errno.ENOSPC, "No space left on device", str(path))
+        return real_save(self, path)
+
+    def write(path, text):  # once full, only the reserved space lets run.json be written
+        if saved["n"] >= 4 and (out / store.RESERVE).exists():
+            raise OSError(errno.ENOSPC, "No space left on device", str(path))
+        return real_write(path, text)
+
+    monkeypatch.setattr(Trace, "save", save)
+    monkeypatch.setattr(store, "atomic_write_text", write)
+    with pytest.raises(RunStorageError, match="disk full") as info:
+        run_suite(suite, workers=1, out=out, progress=False,
+                  episode_fn=fake_episodes.instant_traced)
+    assert info.value.exit_code == 1 and f"--resume {out}" in str(info.value)
+    meta = json.loads((out / "run.json").read_text())
+    assert meta["status"] == "failed" and "disk full" in meta["error"]
+    rows = ResultsStore(out).rows()
+    assert len(rows) == 4 and "trace_error" in rows[-1]
+    assert not (out / store.RESERVE).exists()
+
+    monkeypatch.undo()  # space freed
+    assert runner.run_suite is run_suite
+    run_suite(None, resume=out, workers=1, progress=False,
+              episode_fn=fake_episodes.instant_traced)
+    rows = ResultsStore(out).rows()
+    assert len(rows) == 12 and len({r["job_id"] for r in rows}) == 12
+    assert all("trace_error" not in r and (out / r["trace"]).exists() for r in rows)
+    assert json.loads((out / "run.json").read_text())["status"] == "complete"
+
+
+# --------------------------------------------------------------------------- resume, exit codes
+def test_resume_retry_errors_replays_error_rows_and_strict_exits_3(tmp_path, capsys):
+    from nav_bench.runner import run_suite
+    from nav_bench.store import ResultsStore
+    from tests.helpers import fake_episodes
+
+    suite = _tiny_suite(tmp_path, seeds=2)  # seed 1 raises in seed_dependent
+    out = run_suite(suite, workers=1, out=tmp_path / "out", progress=False,
+                    episode_fn=fake_episodes.seed_dependent)
+    errors = [r for r in ResultsStore(out).rows() if r["outcome"] == "error"]
+    assert len(errors) == 4
+    run_suite(None, resume=out, workers=1, progress=False, episode_fn=fake_episodes.instant)
+    assert sum(r["outcome"] == "error" for r in ResultsStore(out).rows()) == 4  # kept
+    run_suite(None, resume=out, workers=1, progress=False, episode_fn=fake_episodes.instant,
+              retry_errors=True)
+    rows = ResultsStore(out).rows()
+    assert len(rows) == 8 and not any(r["outcome"] == "error" for r in rows)
+
+
+def test_run_strict_exits_3_when_error_rows_exist(tmp_path, capsys, monkeypatch):
+    import nav_bench.runner as runner
+    from tests.helpers import fake_episodes
+
+    real = runner.run_suite
+    monkeypatch.setattr(runner, "run_suite", lambda *a, **k: real(
+        *a, **{**k, "episode_fn": fake_episodes.seed_dependent}))
+    suite = _tiny_suite(tmp_path, seeds=2)
+    argv = ["run", str(suite), "--workers", "1", "--quiet", "--no-report"]
+    assert main([*argv, "--out", str(tmp_path / "a")]) == 0  # error rows are results
+    assert "4 episodes ended in an error row" in capsys.readouterr().err
+    assert main([*argv, "--out", str(tmp_path / "b"), "--strict"]) == 3
+    assert f"--resume {tmp_path / 'b'} --retry-errors" in capsys.readouterr().err
+
+
+def test_ctrl_c_outside_a_run_exits_130(monkeypatch, capsys):
+    import nav_bench.cli as cli
+
+    def interrupted(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli, "cmd_planners", interrupted)
+    assert main(["planners"]) == 130
+
+
+# --------------------------------------------------------------------------- class 8: reports
+@pytest.mark.parametrize("change, needle", [
+    (lambda r: r.pop("world"), "missing field 'world'"),
+    (lambda r: r.update(spl="high"), "field 'spl' should be float, got 'high'"),
+    (lambda r: r.update(outcome="teleported", success=False), "outcome 'teleported' is not one of"),
+    (lambda r: r.update(seed=-4), "seed -4 is negative"),
+])
+def test_report_refuses_rows_it_cannot_trust_naming_the_line(tmp_path, capsys, change, needle):
+    import json
+    import shutil
+
+    run = tmp_path / "run_a"
+    shutil.copytree(ROOT / "tests/data/results/run_a", run)
+    path = run / "episodes.jsonl"
+    lines = path.read_text().splitlines()
+    row = json.loads(lines[2])
+    change(row)
+    lines[2] = json.dumps(row)
+    path.write_text("\n".join(lines) + "\n")
+    err = _refused(capsys, ["report", str(run)], f"{path}:3: {needle}")
+    assert len(err.strip().splitlines()) == 1
