@@ -316,7 +316,7 @@ def _describe(err: dict[str, Any], model: type[BaseModel], loc: Loc) -> str:
             return "unknown key"
         allowed = sorted(f.alias or name for name, f in parent.model_fields.items()
                          if name != "base_dir")
-        close = difflib.get_close_matches(str(loc[-1]), allowed, n=1)
+        close = difflib.get_close_matches(str(loc[-1]) if loc else "", allowed, n=1)
         hint = f"did you mean {close[0]!r}? " if close else ""
         return f"unknown key; {hint}allowed here: {', '.join(allowed)}"
     if kind == "missing":
@@ -332,9 +332,21 @@ def _describe(err: dict[str, Any], model: type[BaseModel], loc: Loc) -> str:
     return msg.removeprefix("Value error, ")
 
 
-def _clean_loc(loc: Sequence[str | int]) -> Loc:
-    # pydantic inserts union-member and function-validator tags into locations; drop them
-    return tuple(p for p in loc if not (isinstance(p, str) and ("[" in p or p.startswith("function-"))))
+def _clean_loc(loc: Sequence[str | int], data: Any = None) -> Loc:
+    """``loc`` without the union-member and function-validator tags pydantic inserts; a part
+    that is a key of the data at that point is the user's (even a key like ``s[onar``)."""
+    out: list[str | int] = []
+    node = data
+    for p in loc:
+        in_list = isinstance(node, list) and isinstance(p, int) and 0 <= p < len(node)
+        if in_list or (isinstance(node, dict) and p in node):
+            node = node[p]
+        elif isinstance(p, str) and ("[" in p or p.startswith("function-")):
+            continue
+        else:
+            node = None
+        out.append(p)
+    return tuple(out)
 
 
 def validate(model: type[M], data: Any, *, file: str | Path | None, index: LineIndex | None,
@@ -345,7 +357,7 @@ def validate(model: type[M], data: Any, *, file: str | Path | None, index: LineI
     except ValidationError as exc:
         errors = []
         for err in exc.errors():
-            own = _clean_loc(err["loc"])
+            own = _clean_loc(err["loc"], data)
             loc = (*prefix, *own)
             line = index.line_of(loc) if index else None
             errors.append(SpecError(_describe(err, model, own), file=file, key_path=format_key_path(loc), line=line))
