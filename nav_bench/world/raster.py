@@ -14,7 +14,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 
 from nav_bench.errors import InputError
 from nav_bench.world.geometry import StaticGeometry, signed_distances
@@ -114,6 +113,8 @@ class Raster:
         """
         if not self.occupied.any():
             return np.full(self.occupied.shape, np.inf)
+        from scipy import ndimage  # here, not on top: validate imports this module (0.7 s)
+
         return ndimage.distance_transform_edt(~self.occupied) * self.resolution
 
 
