@@ -52,6 +52,8 @@ _PLAIN_SCALAR_TAGS = frozenset(f"tag:yaml.org,2002:{t}" for t in (
 _SEQ_TAG = "tag:yaml.org,2002:seq"
 _MAP_TAG = "tag:yaml.org,2002:map"
 _MERGE_TAG = "tag:yaml.org,2002:merge"
+_NO_KEY = object()  # a mapping waiting for its next key
+_MERGE = object()  # the merge key <<
 _STR_TAG = "tag:yaml.org,2002:str"
 _FLOAT_TAG = "tag:yaml.org,2002:float"
 _SIMPLE_FLOAT = re.compile(r"[-+]?[0-9]+\.[0-9]*(?:[eE][-+][0-9]+)?\Z")  # float() reads it alike
@@ -92,7 +94,9 @@ class _Composer:
         return SpecError(problem, file=self.file, key_path=format_key_path(loc) if loc else "",
                          line=line)
 
-    def scalar(self, event: Any, loc: Loc) -> Any:
+    def scalar(self, event: Any, loc: Loc, key: Any = _NO_KEY) -> Any:
+        """The value of a scalar event; ``loc`` (and ``key``, if given, appended to it) is
+        where it stands, for messages."""
         tag = event.tag
         value = event.value
         plain = tag is None and event.implicit[0]
@@ -107,7 +111,7 @@ class _Composer:
         if tag == _MERGE_TAG:
             return _MERGE
         if tag not in _PLAIN_SCALAR_TAGS:
-            raise self.error(_tag_problem(tag), event.start_mark.line + 1, loc)
+            raise self.error(_tag_problem(tag), event.start_mark.line + 1, _at(loc, key))
         if tag == _STR_TAG:
             out: Any = value
         elif tag == _FLOAT_TAG and _SIMPLE_FLOAT.match(value):
@@ -119,10 +123,10 @@ class _Composer:
             except Exception as exc:  # e.g. a timestamp like 2024-02-30, bad base64
                 raise self.error(f"cannot read value {value!r:.40}: "
                                  f"{getattr(exc, 'problem', None) or exc}",
-                                 event.start_mark.line + 1, loc) from None
+                                 event.start_mark.line + 1, _at(loc, key)) from None
         if isinstance(out, float) and not math.isfinite(out):
             raise self.error(f"expected a finite number, got {value}", event.start_mark.line + 1,
-                             loc)
+                             _at(loc, key))
         if plain and isinstance(out, (str, int, float, type(None))):  # immutable: shareable
             self._plain[value] = out
         return out
@@ -171,11 +175,21 @@ class _Composer:
                     if documents:
                         raise self.error("expected a single document, found a second one", line)
                     loc: Loc = ()
-                elif parent[2]:
+                    lines.setdefault(loc, line)
+                elif parent[2]:  # a mapping's value: its key's line is already recorded
+                    if cls is scalar_event and event.anchor is None:  # the most common event
+                        value, size, height = self.scalar(event, parent[1], parent[3]), 1, 0
+                        parent[5] += 1
+                        key, parent[3] = parent[3], _NO_KEY
+                        if key is _MERGE:
+                            raise self.error("a merge key (<<) takes a mapping or a list of "
+                                             "mappings", line, parent[1])
+                        parent[0][key] = value
+                        continue
                     loc = (*parent[1], parent[3])
                 else:
                     loc = (*parent[1], len(parent[0]))
-                lines.setdefault(loc, line)
+                    lines.setdefault(loc, line)
                 if cls is scalar_event:
                     value, size, height = self.scalar(event, loc), 1, 0
                     if event.anchor is not None:
@@ -238,8 +252,9 @@ class _Composer:
         return value, anchor.nodes, anchor.depth
 
 
-_NO_KEY = object()
-_MERGE = object()
+
+def _at(loc: Loc, key: Any) -> Loc:
+    return loc if key is _NO_KEY else (*loc, key)
 
 
 def _tag_problem(tag: str) -> str:
