@@ -1,21 +1,26 @@
 """``nav-bench``: the command line. Thin: parses arguments and calls the library.
 
-Exit status: 0 success, 2 bad input (nothing simulated), 1 anything else.
+Exit status: 0 success, 2 bad input (nothing simulated), 1 anything else, 130 interrupted
+(Ctrl-C, SIGTERM); ``run --strict``: 3 when the run completed with error rows.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 from nav_bench import __version__
 from nav_bench.errors import InputError, NavBenchError
 
 Handler = Callable[[argparse.Namespace], int]
+
+EXIT_INTERRUPTED = 130  # Ctrl-C or SIGTERM: the shell's convention for "ended by SIGINT"
+EXIT_ERROR_ROWS = 3  # run --strict: the run completed, but some episodes are error rows
 
 
 def _xy(text: str) -> tuple[float, float]:
@@ -23,7 +28,35 @@ def _xy(text: str) -> tuple[float, float]:
         x, y = (float(v) for v in text.split(","))
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected X,Y in metres, got {text!r}") from None
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise argparse.ArgumentTypeError(f"expected finite X,Y in metres, got {text!r}")
     return (x, y)
+
+
+def _int_from(low: int) -> Callable[[str], int]:
+    """An argparse type: a whole number >= ``low`` (seeds >= 0, worker counts >= 1)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"expected a whole number >= {low}, got {value}")
+        return value
+
+    return parse
+
+
+def _positive(text: str) -> float:
+    """An argparse type: a finite number > 0 (seconds, metres)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"expected a finite number > 0, got {text!r}")
+    return value
 
 
 def _key_value(text: str) -> tuple[str, Any]:
@@ -38,15 +71,23 @@ def _key_value(text: str) -> tuple[str, Any]:
 # --------------------------------------------------------------------------- commands
 def cmd_run(args: argparse.Namespace) -> int:
     from nav_bench.runner import run_suite
+    from nav_bench.store import ResultsStore
 
     out = run_suite(args.suite, workers=args.workers, out=args.out, resume=args.resume,
-                    executor=args.executor, progress=not args.quiet)
+                    executor=args.executor, progress=not args.quiet,
+                    retry_errors=args.retry_errors)
     print(f"results: {out}")
     if not args.no_report:
         from nav_bench.report import write_report
 
         report = write_report([out], out=None)
         print(f"report:  {report}")
+    errors = sum(1 for r in ResultsStore(out).rows() if r.get("outcome") == "error")
+    if errors:
+        print(f"{errors} episodes ended in an error row (see their 'error' field); replay them "
+              f"with: nav-bench run --resume {out} --retry-errors", file=sys.stderr)
+        if args.strict:
+            return EXIT_ERROR_ROWS
     return 0
 
 
@@ -193,8 +234,15 @@ def cmd_perf(args: argparse.Namespace) -> int:
 
 
 # --------------------------------------------------------------------------- parser
+class _Parser(argparse.ArgumentParser):
+    """Argument errors in one line (``--help`` shows the usage), exit status 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="nav-bench",
         description="Benchmark mobile-robot navigation in a-priori unknown indoor worlds (PyBullet).")
     parser.add_argument("--version", action="version", version=f"nav-bench {__version__}")
@@ -202,11 +250,15 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("run", help="run a batch benchmark (default suite: configs/suites/default.yaml)")
     p.add_argument("suite", nargs="?", help="suite YAML (default: configs/suites/default.yaml)")
-    p.add_argument("--workers", type=int, help="parallel worker processes (default: CPU cores)")
+    p.add_argument("--workers", type=_int_from(1), help="parallel worker processes (default: CPU cores)")
     p.add_argument("--out", type=Path, help="results folder (default: results/<suite>-<timestamp>)")
     p.add_argument("--resume", type=Path, help="finish an interrupted results folder")
     p.add_argument("--executor", default="local",
                    help="local (process pool), dask (local cluster) or dask:tcp://HOST:PORT")
+    p.add_argument("--retry-errors", action="store_true",
+                   help="with --resume: also replay the episodes whose row is an error")
+    p.add_argument("--strict", action="store_true",
+                   help=f"exit with status {EXIT_ERROR_ROWS} if any episode is an error row")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument("--no-report", action="store_true", help="do not write report.md at the end")
     p.set_defaults(func=cmd_run)
@@ -215,9 +267,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("world", help="world YAML")
     p.add_argument("--planner", default="eopc",
                    help="name, parameter-set file, or name:key=value,... (default: eopc)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=_int_from(0), default=0)
     p.add_argument("--robot", help="robot config YAML (default: robots/diffbot.yaml)")
-    p.add_argument("--time-limit", type=float, help="simulated seconds (default: scales with world size)")
+    p.add_argument("--time-limit", type=_positive, help="simulated seconds (default: scales with world size)")
     p.add_argument("--no-stuck", action="store_true", help="do not end the episode when the robot stalls")
     p.add_argument("--plot", help="write a PNG of the map, trajectory and planner state")
     p.add_argument("--trace", help="write the trace (.npz) for replotting")
@@ -246,7 +298,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("generate", help="write a world YAML from a seeded generator")
     p.add_argument("kind", nargs="?", help="generator name (see --list)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=_int_from(0), default=0)
     p.add_argument("--set", type=_key_value, action="append", metavar="KEY=VALUE",
                    help="generator setting (repeatable)")
     p.add_argument("-o", "--output", help="world YAML to write")
@@ -265,8 +317,8 @@ def build_parser() -> argparse.ArgumentParser:
     q = fmt.add_parser("movingai", help="MovingAI .map grid (start/goal from a .scen line)")
     q.add_argument("map")
     q.add_argument("--scen", help=".scen file")
-    q.add_argument("--index", type=int, default=0, help="scenario line (0 = first)")
-    q.add_argument("--cell", type=float, default=0.5, help="cell size in metres (default 0.5)")
+    q.add_argument("--index", type=_int_from(0), default=0, help="scenario line (0 = first)")
+    q.add_argument("--cell", type=_positive, default=0.5, help="cell size in metres (default 0.5)")
     q.add_argument("-o", "--output", required=True)
     q = fmt.add_parser("barn", help="BARN .world (SDF) with the BARN protocol's start and goal")
     q.add_argument("map")
@@ -276,7 +328,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("perf", help="measure simulation and episode speed on this machine")
     p.add_argument("--world", default="worlds/paper/open_room.yaml",
                    help="world of the measured goal_seek episode (default: the open room)")
-    p.add_argument("--seconds", type=float, help="time limit of that episode (default: the world's)")
+    p.add_argument("--seconds", type=_positive, help="time limit of that episode (default: the world's)")
     p.set_defaults(func=cmd_perf)
     return parser
 
@@ -290,6 +342,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         return exc.exit_code
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except OSError as exc:  # a file nav-bench had to write or read failed: one line, not a traceback
+        from nav_bench.store import describe_os_error
+
+        print(f"nav-bench {args.command}: error: {describe_os_error(exc)}", file=sys.stderr)
         return 1
 
 

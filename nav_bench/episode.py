@@ -21,7 +21,7 @@ from nav_bench import metrics
 from nav_bench.errors import InputError, PlannerError
 from nav_bench.planners.base import Command, Observation, Planner
 from nav_bench.planners.registry import full_params, make_planner
-from nav_bench.specs import PlannerSetSpec, RobotSpec, WorldSpec, load_robot
+from nav_bench.specs import GOAL_TOLERANCE_M, PlannerSetSpec, RobotSpec, WorldSpec, load_robot
 from nav_bench.world.geometry import polyline_length
 
 if TYPE_CHECKING:
@@ -42,10 +42,15 @@ class EpisodeSettings:
     # m, true distance to the goal that counts as reached. Planners stop at their own tolerance
     # (0.2 m by default) judged on odometry; the extra 0.1 m absorbs odometry drift, so success
     # measures navigation and a default-noise robot that stopped "at" the goal is not "stuck".
-    goal_tolerance: float = 0.3
+    goal_tolerance: float = GOAL_TOLERANCE_M
     record_trace: bool = True  # keep per-cycle arrays (needed for plots and traces on disk)
 
     def __post_init__(self) -> None:
+        for name in ("control_hz", "physics_hz", "time_s", "stuck_s", "stuck_radius",
+                     "goal_tolerance"):
+            value = getattr(self, name)
+            if value is not None and not math.isfinite(value):
+                raise InputError(f"{name} must be a finite number, got {value}")
         if self.control_hz <= 0 or self.physics_hz <= 0:
             raise InputError("control_hz and physics_hz must be positive")
         if self.physics_hz < self.control_hz:

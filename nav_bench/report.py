@@ -121,7 +121,7 @@ def load_runs(dirs: Sequence[Path]) -> list[Run]:
         names[name] += 1
         if names[name] > 1:
             name = f"{name}#{names[name]}"
-        rows = store.rows()
+        rows = store.checked_rows()  # a row a report cannot read is named, not guessed at
         for r in rows:
             r["run"] = name
             r.setdefault("label", r.get("planner", "?"))

@@ -31,7 +31,7 @@ from typing import Any
 from nav_bench import __version__
 from nav_bench.errors import InputError, NavBenchError
 from nav_bench.executors import EpisodeFn, JobOutcome, make_executor, run_job
-from nav_bench.store import ResultsStore
+from nav_bench.store import ResultsStore, describe_os_error, is_disk_full
 from nav_bench.suite import (
     EpisodeJob,
     Suite,
@@ -55,6 +55,18 @@ class RunInterrupted(NavBenchError):
         self.folder, self.done, self.total = folder, done, total
         super().__init__(f"interrupted: {done} of {total} episodes are stored in {folder}; "
                          f"finish with: nav-bench run --resume {folder}")
+
+
+class RunStorageError(NavBenchError):
+    """The results could not be written (a full disk, a folder gone); the rows written so far
+    are kept, run.json says the session failed and why, and ``--resume`` finishes the run
+    (replaying the episodes whose trace was lost)."""
+
+    def __init__(self, folder: Path, done: int, total: int, error: OSError) -> None:
+        self.folder, self.done, self.total, self.error = folder, done, total, error
+        super().__init__(f"{describe_os_error(error)}; {done} of {total} episodes are stored in "
+                         f"{folder}; free space, then finish with: nav-bench run --resume "
+                         f"{folder}")
 
 
 # --------------------------------------------------------------------------- stop requests
@@ -214,13 +226,17 @@ def _store_outcome(store: ResultsStore, outcome: JobOutcome) -> dict[str, Any]:
         except Exception as exc:  # a trace that cannot be written must not cost the row
             tmp.unlink(missing_ok=True)
             row["trace_error"] = f"{type(exc).__name__}: {exc}"
+            if isinstance(exc, OSError) and is_disk_full(exc):
+                store.append(row)  # keep the row if it still fits (resume replays it)
+                raise
     store.append(row)
     return row
 
 
 def run_suite(suite_path: str | Path | None, *, workers: int | None = None,
               out: Path | None = None, resume: Path | None = None, executor: str = "local",
-              progress: bool = True, episode_fn: EpisodeFn = run_job) -> Path:
+              progress: bool = True, episode_fn: EpisodeFn = run_job,
+              retry_errors: bool = False) -> Path:
     """Run a suite (default: ``configs/suites/default.yaml``); returns the results folder.
 
     Args:
@@ -228,13 +244,17 @@ def run_suite(suite_path: str | Path | None, *, workers: int | None = None,
             same episodes as the stored one).
         workers: parallel episodes (default: CPU cores; for ``dask``, the LocalCluster size).
         out: results folder (default ``results/<suite>-<YYYYmmdd-HHMMSS>``); must not hold a run.
-        resume: a results folder to finish: plays only the episodes without a row.
+        resume: a results folder to finish: plays the episodes without a row, and those whose
+            trace is missing (a full disk; the row is replaced).
+        retry_errors: with ``resume``, also replay the episodes whose row is an ``error``
+            (a planner that raised, a worker killed from outside, a hang past ``wall_s``).
         executor: ``local``, ``dask`` or ``dask:tcp://HOST:PORT``.
         progress: show a progress bar on stderr.
         episode_fn: plays one :class:`~nav_bench.suite.EpisodeJob` (for tests and benchmarks;
             must be importable by worker processes).
     Raises:
-        InputError: bad suite, executor or folder (nothing simulated).
+        InputError: bad suite, executor or folder; a folder another run is writing (its
+            lock is held); a new run's folder that is not empty (nothing simulated).
         RunInterrupted: Ctrl-C or SIGTERM; the folder is valid and resumable.
 
     Worker processes start by ``forkserver`` or ``spawn``, which import the calling script
@@ -246,6 +266,42 @@ def run_suite(suite_path: str | Path | None, *, workers: int | None = None,
             raise InputError("give either --out or --resume, not both")
         folder = Path(resume)
         store = ResultsStore(folder)
+        store.read_run()  # is it a run at all (before the lock creates anything)?
+        store.lock()
+        try:
+            return _run_locked(store, suite_path, resume=True, runner=runner,
+                               episode_fn=episode_fn, progress=progress,
+                               retry_errors=retry_errors)
+        finally:
+            store.unlock()
+    if retry_errors:
+        raise InputError("--retry-errors goes with --resume DIR")
+    suite = load_suite(suite_path if suite_path is not None else default_suite_file())
+    folder = _new_folder(suite, out)
+    store = ResultsStore(folder)
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"{folder} is a file, not a folder; choose another --out")
+    if store.exists():
+        raise InputError(f"{folder} already holds a run; finish it with --resume {folder} "
+                         f"or choose another --out")
+    if not store.is_empty():
+        raise InputError(f"{folder} is not empty and holds no run; nav-bench writes a new run "
+                         f"only into a new or empty folder (it would overwrite report.md, "
+                         f"summary.csv, figures/): choose another --out")
+    store.lock()
+    try:
+        return _run_locked(store, suite, resume=False, runner=runner, episode_fn=episode_fn,
+                           progress=progress, retry_errors=False)
+    finally:
+        store.unlock()
+
+
+def _run_locked(store: ResultsStore, suite_arg: Any, *, resume: bool, runner: Any,
+                episode_fn: EpisodeFn, progress: bool, retry_errors: bool) -> Path:
+    """The run itself, with the folder's lock held: resume a run or start ``suite_arg``."""
+    folder = store.dir
+    if resume:
+        suite_path = suite_arg
         meta = store.read_run()
         suite = _suite_of_run(meta, folder)
         jobs = expand(suite)
@@ -255,14 +311,14 @@ def run_suite(suite_path: str | Path | None, *, workers: int | None = None,
             _check_same_jobs([j.job_id for j in jobs], expand(load_suite(suite_path)), folder,
                              f"{suite_path} is not the suite it ran")
         store.repair()
+        replay = _rows_to_replay(store, retry_errors)
+        if replay:
+            store.drop_rows(replay)
     else:
-        suite = load_suite(suite_path if suite_path is not None else default_suite_file())
+        suite = suite_arg
+        if store.exists():  # another run took the folder between the check and the lock
+            raise InputError(f"{folder} already holds a run; choose another --out")
         jobs = expand(suite)
-        folder = _new_folder(suite, out)
-        store = ResultsStore(folder)
-        if store.exists():
-            raise InputError(f"{folder} already holds a run; finish it with --resume {folder} "
-                             f"or choose another --out")
         meta = {"format": RUN_FORMAT, "suite": describe(suite), "started": _now(), "sessions": []}
 
     with store:
@@ -292,25 +348,58 @@ def run_suite(suite_path: str | Path | None, *, workers: int | None = None,
             store.write_run(meta)
 
         save_meta("running")
+        # room for the session's last run.json, should the disk fill up during the run
+        store.reserve(2 * store.run_path.stat().st_size + (64 << 10))
         bar = _Progress(len(jobs), done_rows, suite.name, progress)
         status = "failed"
+        storage: OSError | None = None
         try:
             with _StopRequests() as stop:
                 for outcome in _outcomes(runner, pending, episode_fn, stop):
-                    done_rows.append(_store_outcome(store, outcome))
+                    try:
+                        done_rows.append(_store_outcome(store, outcome))
+                    except OSError as exc:  # disk full or gone: stop, say so, stay resumable
+                        storage = exc
+                        done_rows[:] = store.rows()
+                        break
                     session["episodes"] += 1
                     bar.update(outcome.row)
-                status = "interrupted" if stop() and len(done_rows) < len(jobs) else "complete"
+                if storage is None:
+                    status = ("interrupted" if stop() and len(done_rows) < len(jobs)
+                              else "complete")
                 if status == "complete":  # a cluster's size is known by now
                     meta["executor"] = session["executor"] = runner.describe()
         except KeyboardInterrupt:
             status = "interrupted"
         finally:
             bar.close()
-            save_meta(status, ended=True)
+            if storage is not None:
+                session["error"] = meta["error"] = describe_os_error(storage)
+            try:
+                save_meta(status, ended=True)
+            except OSError as exc:
+                storage = storage or exc
+            store.release_reserve()
+    if storage is not None:
+        raise RunStorageError(folder, len(done_rows), len(jobs), storage)
     if status == "interrupted":
         raise RunInterrupted(folder, len(done_rows), len(jobs))
     return folder
+
+
+def _rows_to_replay(store: ResultsStore, retry_errors: bool) -> set[str]:
+    """job_ids whose row a resume replaces: a trace that was not written or is gone, and with
+    ``retry_errors`` every ``error`` row."""
+    replay = set()
+    for row in store.rows():
+        job = row.get("job_id")
+        if not isinstance(job, str):
+            continue
+        trace = row.get("trace")
+        lost = "trace_error" in row or (isinstance(trace, str) and not (store.dir / trace).exists())
+        if lost or (retry_errors and row.get("outcome") == "error"):
+            replay.add(job)
+    return replay
 
 
 def _outcomes(runner: Any, pending: list[EpisodeJob], episode_fn: EpisodeFn,

@@ -18,16 +18,24 @@ from pydantic import BaseModel, ConfigDict, Field, PositiveFloat, model_serializ
 from nav_bench.errors import SpecError
 from nav_bench.yamlio import LineIndex, load_yaml, validate
 
-Vec2 = tuple[float, float]
+MAX_COORD_M = 1e5  # every world coordinate and length is within 100 km (PyBullet and rasters)
+# an episode succeeds when the robot centre comes this close to the goal (EpisodeSettings),
+# so a world's goal must lie farther than this from its start
+GOAL_TOLERANCE_M = 0.3
+Coord = Annotated[float, Field(ge=-MAX_COORD_M, le=MAX_COORD_M)]
+Length = Annotated[float, Field(gt=0.0, le=MAX_COORD_M)]
+Vec2 = tuple[Coord, Coord]
 PositiveInt = Annotated[int, Field(gt=0)]
 NonNegFloat = Annotated[float, Field(ge=0.0)]
 Probability = Annotated[float, Field(ge=0.0, le=1.0)]
 
 
 class Strict(BaseModel):
-    """Base for every spec model: unknown keys are errors, instances are immutable."""
+    """Base for every spec model: unknown keys are errors, instances are immutable, every
+    float is finite (NaN and infinities are refused: they would pass every comparison)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True,
+                              allow_inf_nan=False)
 
 
 def _one_of(kinds: tuple[str, ...], what: str):
@@ -64,7 +72,7 @@ class Wall(Strict):
 
     from_: Vec2 = Field(alias="from")
     to: Vec2
-    thickness: PositiveFloat = 0.15
+    thickness: Length = 0.15
 
     @model_validator(mode="after")
     def _nonzero(self) -> Wall:
@@ -77,22 +85,22 @@ class Box(Strict):
     """A box: centre and size in metres, rotated by ``yaw_deg`` about its centre."""
 
     center: Vec2
-    size: tuple[PositiveFloat, PositiveFloat]
-    yaw_deg: float = 0.0
+    size: tuple[Length, Length]
+    yaw_deg: Coord = 0.0
 
 
 class Cylinder(Strict):
     """An upright cylinder: centre and radius in metres."""
 
     center: Vec2
-    radius: PositiveFloat
+    radius: Length
 
 
 class Polyline(Strict):
     """A chain of walls through ``points``; ``closed`` joins the last point to the first."""
 
     points: Annotated[list[Vec2], Field(min_length=2)]
-    thickness: PositiveFloat = 0.15
+    thickness: Length = 0.15
     closed: bool = False
 
 
@@ -122,11 +130,11 @@ class Obstacle(Strict):
 
 
 class MoverCylinder(Strict):
-    radius: PositiveFloat
+    radius: Length
 
 
 class MoverBox(Strict):
-    size: tuple[PositiveFloat, PositiveFloat]
+    size: tuple[Length, Length]
 
 
 class MoverShape(Strict):
@@ -156,10 +164,10 @@ class WorldSpec(Strict):
 
     name: str | None = None
     description: str = ""
-    size: tuple[PositiveFloat, PositiveFloat]
+    size: tuple[Length, Length]
     boundary: bool = True
-    wall_height: PositiveFloat = 0.6
-    start: Annotated[list[float], Field(min_length=2, max_length=3)]
+    wall_height: Length = 0.6
+    start: Annotated[list[Coord], Field(min_length=2, max_length=3)]  # yaw in degrees
     goal: Vec2
     obstacles: list[Obstacle] = Field(default_factory=list)
     movers: list[Mover] = Field(default_factory=list)

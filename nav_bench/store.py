@@ -7,7 +7,9 @@ A results folder holds::
     traces/<job_id>.npz   one trace per episode, for replotting (with the trace's JSON sidecar)
     worlds/<name>.yaml    worlds made by generators, so every row's world_file exists
 
-Only one process writes a folder: the runner's parent (or the Dask client). A row is appended
+Only one process writes a folder: the runner's parent (or the Dask client), which holds an
+OS lock on ``.lock`` (:meth:`ResultsStore.lock`) while it runs; the OS drops the lock when the
+process ends, ``kill -9`` included, so a stale lock cannot stay behind. A row is appended
 only after its trace is written, so a row always has its trace. ``kill -9`` can leave a
 half-written last line; :meth:`ResultsStore.rows` reports it (a :class:`ResultsWarning` naming
 the file and line) and skips it, and :meth:`ResultsStore.repair` (called on resume) cuts it off.
@@ -15,6 +17,8 @@ the file and line) and skips it, and :meth:`ResultsStore.repair` (called on resu
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import json
 import math
 import os
@@ -28,6 +32,8 @@ from nav_bench.errors import InputError
 
 EPISODES = "episodes.jsonl"
 RUN = "run.json"
+LOCK = ".lock"  # the writer's lock and its PID
+RESERVE = ".reserve"  # space kept so the last run.json of a session fits on a full disk
 TRACES = "traces"
 WORLDS = "worlds"
 
@@ -127,6 +133,19 @@ def row_to_line(row: dict[str, Any]) -> str:
                       separators=(",", ":")) + "\n"
 
 
+def is_disk_full(exc: OSError) -> bool:
+    """No space left on the device, or over the user's quota."""
+    return exc.errno in (errno.ENOSPC, errno.EDQUOT)
+
+
+def describe_os_error(exc: OSError) -> str:
+    """``path: what went wrong`` in one line, with "disk full" said plainly."""
+    where = f"{exc.filename}: " if exc.filename else ""
+    if is_disk_full(exc):
+        return f"{where}disk full (no space left on the device, or over quota)"
+    return f"{where}{exc.strerror or exc}"
+
+
 def atomic_write_text(path: Path, text: str) -> None:
     """Write ``text`` to ``path`` so that readers see the old or the new file, never a mix."""
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -164,6 +183,7 @@ class ResultsStore:
     def __init__(self, folder: str | Path) -> None:
         self.dir = Path(folder)
         self._file: Any = None
+        self._lock_fd: int | None = None
 
     # -- paths -------------------------------------------------------------------
     @property
@@ -185,11 +205,88 @@ class ResultsStore:
         """True if the folder already holds a run (run.json or rows)."""
         return self.run_path.exists() or self.episodes_path.exists()
 
+    # -- the writer's lock -----------------------------------------------------------
+    def lock(self) -> None:
+        """Create the folder if needed and become its only writer.
+
+        Takes an exclusive OS lock (``flock``) on ``.lock``, held until :meth:`unlock` or the
+        end of the process (the OS releases it even after ``kill -9``). A second writer, e.g. a
+        ``--resume`` while the run still lives, gets an :class:`InputError` naming the PID of
+        the first. A folder that cannot be made or written is an :class:`InputError` too.
+        """
+        if self._lock_fd is not None:
+            return
+        if self.dir.exists() and not self.dir.is_dir():
+            raise InputError(f"{self.dir} is a file, not a folder; choose another --out")
+        try:
+            self.dir.mkdir(parents=True, exist_ok=True)
+            fd = os.open(self.dir / LOCK, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as exc:
+            raise InputError(f"cannot write the results folder {self.dir}: "
+                             f"{exc.strerror or exc}") from None
+        try:
+            import fcntl
+        except ImportError:  # no flock (Windows): a single writer is assumed, as before
+            fcntl = None
+        if fcntl is not None:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                holder = os.read(fd, 64).decode("ascii", "replace").strip() or "?"
+                os.close(fd)
+                raise InputError(f"{self.dir} is being written by another nav-bench run "
+                                 f"(process {holder}); wait for it to end or stop it "
+                                 f"first") from None
+        try:
+            os.ftruncate(fd, 0)
+            os.write(fd, f"{os.getpid()}\n".encode())
+        except OSError:
+            pass  # the PID is for messages only
+        self._lock_fd = fd
+
+    def unlock(self) -> None:
+        """Release the writer's lock (closing the file releases the OS lock)."""
+        if self._lock_fd is not None:
+            os.close(self._lock_fd)
+            self._lock_fd = None
+
+    def is_empty(self) -> bool:
+        """True if the folder does not exist or holds nothing."""
+        return not self.dir.exists() or (self.dir.is_dir() and not any(self.dir.iterdir()))
+
     # -- run.json ----------------------------------------------------------------
     def write_run(self, meta: dict[str, Any]) -> None:
-        """Replace run.json atomically (temp file + fsync + os.replace)."""
-        atomic_write_text(self.run_path, json.dumps(_finite_or_none(meta), indent=2,
-                                                    default=str) + "\n")
+        """Replace run.json atomically (temp file + fsync + os.replace).
+
+        On a full disk the space kept by :meth:`reserve` is given back first and the write
+        tried once more, so run.json can still say how the session ended."""
+        text = json.dumps(_finite_or_none(meta), indent=2, default=str) + "\n"
+        try:
+            atomic_write_text(self.run_path, text)
+        except OSError as exc:
+            if not (is_disk_full(exc) and self.release_reserve()):
+                raise
+            atomic_write_text(self.run_path, text)
+
+    def reserve(self, nbytes: int) -> None:
+        """Keep ``nbytes`` of disk space in ``.reserve`` for the last write of run.json."""
+        path = self.dir / RESERVE
+        try:
+            with open(path, "wb") as f:
+                if hasattr(os, "posix_fallocate"):
+                    os.posix_fallocate(f.fileno(), 0, nbytes)
+                else:
+                    f.write(b"\0" * nbytes)
+        except OSError:
+            path.unlink(missing_ok=True)  # no room to keep: the run goes on without it
+
+    def release_reserve(self) -> bool:
+        """Give the kept space back; True if there was some."""
+        try:
+            (self.dir / RESERVE).unlink()
+        except FileNotFoundError:
+            return False
+        return True
 
     def read_run(self) -> dict[str, Any]:
         """The run's metadata; :class:`InputError` if the folder has no readable run.json."""
@@ -210,8 +307,9 @@ class ResultsStore:
 
     def close(self) -> None:
         if self._file is not None:
-            self._file.close()
-            self._file = None
+            f, self._file = self._file, None
+            with contextlib.suppress(OSError):  # a full disk: a line not written is not a row
+                f.close()
 
     def __enter__(self) -> ResultsStore:
         return self.open()
@@ -227,7 +325,22 @@ class ResultsStore:
         self._file.flush()
         os.fsync(self._file.fileno())
 
-    def _scan(self) -> tuple[list[dict[str, Any]], int | None, int]:
+    def checked_rows(self) -> list[dict[str, Any]]:
+        """:meth:`rows`, each checked by :func:`row_problems` (for readers that trust nothing:
+        reports). A row that breaks the schema is an :class:`InputError` naming
+        ``episodes.jsonl:LINE`` and the field."""
+        numbers: list[int] = []
+        rows, _, _ = self._scan(numbers)
+        for number, row in zip(numbers, rows, strict=True):
+            problems = row_problems(row)
+            if problems:
+                more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
+                raise InputError(f"{self.episodes_path}:{number}: {problems[0]}{more}; not a "
+                                 f"result row nav-bench can report")
+        return self.rows()
+
+    def _scan(self, numbers: list[int] | None = None
+              ) -> tuple[list[dict[str, Any]], int | None, int]:
         """Parsed rows, the 1-based number of a torn last line (or None), and its byte offset.
 
         A torn line is the last one when it lacks its newline: one ``write`` puts a whole line
@@ -256,6 +369,8 @@ class ResultsStore:
                     raise InputError(f"{self.episodes_path}:{number}: not a JSON row; the file "
                                      f"is damaged (more than a torn last line)")
                 rows.append(row)
+                if numbers is not None:
+                    numbers.append(number)
             offset += len(raw) + 1
         return rows, None, offset
 
@@ -281,6 +396,19 @@ class ResultsStore:
                       f"while writing it); removed, that episode will run again",
                       ResultsWarning, stacklevel=2)
         return torn
+
+    def drop_rows(self, job_ids: set[str]) -> int:
+        """Rewrite episodes.jsonl without the rows of ``job_ids`` (atomically); how many went.
+
+        For a resume that replays them: rows whose trace is missing, and error rows with
+        ``--retry-errors``. The caller holds the lock."""
+        rows = self.rows()
+        keep = [r for r in rows if r.get("job_id") not in job_ids]
+        if len(keep) == len(rows):
+            return 0
+        self.close()
+        atomic_write_text(self.episodes_path, "".join(row_to_line(r) for r in keep))
+        return len(rows) - len(keep)
 
     def done_ids(self) -> set[str]:
         """job_ids that have a complete row."""

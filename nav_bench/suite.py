@@ -37,12 +37,13 @@ from __future__ import annotations
 
 import glob
 import itertools
+import math
 import os
 import re
 from collections.abc import Iterable
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any
 
 from pydantic import Field, PositiveFloat
 
@@ -81,6 +82,10 @@ class InlinePlannerSet(Strict):
     params: dict[str, Any] = Field(default_factory=dict)
 
 
+DEFAULT_WALL_S = 900.0  # a hung episode is killed after this many wall-clock seconds
+MAX_WALL_S = 7 * 86400.0
+
+
 class Limits(Strict):
     """Episode limits. A key left out takes the episode's default (``EpisodeSettings``)."""
 
@@ -90,10 +95,11 @@ class Limits(Strict):
     goal_tolerance: PositiveFloat | None = None  # m
     control_hz: PositiveFloat | None = None  # planner cycles per second
     physics_hz: PositiveFloat | None = None  # physics steps per second
-    wall_s: PositiveFloat | None = None  # wall-clock s per episode before it is killed; null: 900
+    # wall-clock s per episode before it is killed; null: 900. At most a week: a bound a
+    # timer can hold
+    wall_s: Annotated[float, Field(gt=0.0, le=MAX_WALL_S)] | None = None
 
 
-DEFAULT_WALL_S = 900.0  # a hung episode is killed after this many wall-clock seconds
 
 
 class SuiteFile(Strict):
@@ -228,6 +234,16 @@ def _format_value(value: Any) -> str:
     return str(value)
 
 
+MAX_SEEDS = 100_000  # seeds of one suite or generator family
+MAX_SWEEP = 10_000  # parameter sets (or robot variants) one sweep may make
+MAX_EPISODES = 1_000_000  # episodes of one suite
+
+
+def sweep_size(values: dict[str, Any]) -> int:
+    """How many combinations :func:`sweep` would make (without making them)."""
+    return math.prod(len(v) for v in values.values() if isinstance(v, list))
+
+
 def sweep(values: dict[str, Any]) -> list[tuple[dict[str, Any], str]]:
     """Grid product over the list values of a flat mapping: ``[(values, "k=v,...")]``.
 
@@ -274,15 +290,23 @@ def parse_seeds(value: Any, *, what: str = "seeds") -> list[int]:
     if isinstance(value, int):
         if value < 1:
             raise ValueError(f"{what}: a count must be at least 1, got {value}")
+        if value > MAX_SEEDS:
+            raise ValueError(f"{what}: at most {MAX_SEEDS:,} seeds, got {value:,}")
         return list(range(value))
     if isinstance(value, str):
         m = re.fullmatch(r"\s*(\d+)\s*\.\.\s*(\d+)\s*", value)
         if not m or int(m[1]) > int(m[2]):
             raise ValueError(f"{what}: expected 'a..b' with 0 <= a <= b (inclusive), got {value!r}")
+        if int(m[2]) - int(m[1]) >= MAX_SEEDS or int(m[2]) >= 2**63:
+            raise ValueError(f"{what}: at most {MAX_SEEDS:,} seeds, each below 2**63, got "
+                             f"{value!r}")
         return list(range(int(m[1]), int(m[2]) + 1))
     if isinstance(value, list) and value:
-        if not all(isinstance(s, int) and not isinstance(s, bool) and s >= 0 for s in value):
-            raise ValueError(f"{what}: a list of seeds must hold non-negative integers")
+        if not all(isinstance(s, int) and not isinstance(s, bool) and 0 <= s < 2**63
+                   for s in value):
+            raise ValueError(f"{what}: a list of seeds must hold integers from 0 to 2**63 - 1")
+        if len(value) > MAX_SEEDS:
+            raise ValueError(f"{what}: at most {MAX_SEEDS:,} seeds, got {len(value):,}")
         if len(set(value)) != len(value):
             raise ValueError(f"{what}: the list repeats a seed")
         return list(value)
@@ -378,8 +402,13 @@ def suite_from_data(data: Any, *, file: str | None = None, index: LineIndex | No
         raise _err(str(exc), file, index, ("seeds",)) from None
     settings, wall_s = _settings(top.limits, file, index)
     worlds = _worlds(top.worlds, resolver, file, index)
+    _check_goal_distances(worlds, settings["goal_tolerance"], file, index)
     planners = _planners(top.planners, resolver, file, index)
     robots = _robots(top.robot, resolver, file, index)
+    episodes = len(worlds) * len(planners) * len(robots) * len(seeds)
+    if episodes > MAX_EPISODES:
+        raise _err(f"the suite makes {episodes:,} episodes, more than {MAX_EPISODES:,}",
+                   file, index, ())
     return Suite(name=name, description=top.description, file=file, cwd=str(cwd_path.resolve()),
                  data=data, worlds=tuple(worlds), planners=tuple(planners), robots=tuple(robots),
                  seeds=tuple(seeds), settings=settings, wall_s=wall_s)
@@ -422,6 +451,19 @@ def _worlds(entries: list[Any], resolver: _Resolver, file: str | None,
             by_name[item.name] = item
             items.append(item)
     return items
+
+
+def _check_goal_distances(worlds: list[WorldItem], tolerance: float, file: str | None,
+                          index: LineIndex | None) -> None:
+    """Every world's goal lies beyond the suite's success radius from its start."""
+    from nav_bench.world.geometry import check_goal_distance
+
+    for item in worlds:
+        try:
+            check_goal_distance(item.spec, tolerance)
+        except SpecError as exc:
+            raise _err(f"world {item.name!r} ({_where(item)}): goal {exc.problem}", file, index,
+                       ("limits", "goal_tolerance")) from None
 
 
 def _where(item: WorldItem) -> str:
@@ -519,6 +561,9 @@ def _planners(entries: dict[str, Any], resolver: _Resolver, file: str | None,
             for key, value in inline.params.items():
                 if isinstance(value, list) and not value:
                     raise _err("an empty list sweeps nothing", file, index, (*loc, "params", key))
+            if sweep_size(inline.params) > MAX_SWEEP:
+                raise _err(f"the lists sweep {sweep_size(inline.params):,} parameter sets, more "
+                           f"than {MAX_SWEEP:,}", file, index, (*loc, "params"))
             sub = _sub_index(index, loc)
             sets = []
             for params, suffix in sweep(inline.params):
@@ -567,6 +612,9 @@ def _robots(entry: Any, resolver: _Resolver, file: str | None,
     for key, value in flat.items():
         if isinstance(value, list) and not value:
             raise _err("an empty list sweeps nothing", file, index, (*loc, *key.split(".")))
+    if sweep_size(flat) > MAX_SWEEP:
+        raise _err(f"the lists sweep {sweep_size(flat):,} robot variants, more than "
+                   f"{MAX_SWEEP:,}", file, index, loc)
     items = []
     for chosen, suffix in sweep(flat):
         chosen = dict(chosen)
@@ -592,8 +640,8 @@ def _robots(entry: Any, resolver: _Resolver, file: str | None,
 def _robot_error(exc: SpecError, overrides: dict[str, Any], loc: Loc, file: str | None,
                  index: LineIndex | None) -> SpecError:
     """Point at the suite's line when the suite's override caused the error."""
-    top = _split_key_path(exc.key_path)[:1]
-    if top and top[0] in overrides:
+    if any(exc.key_path == k or exc.key_path.startswith((f"{k}.", f"{k}["))
+           for k in map(str, overrides)):
         return _prefixed(exc, loc, index, file)
     return exc
 

@@ -46,6 +46,10 @@ KINDS: list[tuple[str, str, Callable[[Path], Any]]] = [
 def file_kind(path: Path) -> tuple[str, Callable[[Path], Any]]:
     """Which kind of file ``path`` is, from its top-level keys (a world if nothing else fits)."""
     data, _ = load_yaml(path)
+    return _kind_of(data, path)
+
+
+def _kind_of(data: Any, path: Path) -> tuple[str, Callable[[Path], Any]]:
     if not isinstance(data, dict):
         raise SpecError("expected a mapping at the top level", file=path, line=1)
     for key, kind, loader in KINDS:
@@ -76,8 +80,18 @@ def validate_paths(paths: list[Path]) -> tuple[list[str], int]:
             problems.append(f"{path}: no such file")
             continue
         try:
-            _, loader = file_kind(path)
-            loader(path)
+            data, index = load_yaml(path)  # read once: a large world is not parsed twice
+            kind, loader = _kind_of(data, path)
+            if kind == "world":
+                from nav_bench.specs import world_from_data
+
+                world_from_data(data, file=path, index=index)
+            elif kind == "suite":
+                from nav_bench.suite import suite_from_data
+
+                suite_from_data(data, file=str(path), index=index)
+            else:
+                loader(path)
         except InputError as exc:
             problems.append(str(exc))
     return problems, len(files)

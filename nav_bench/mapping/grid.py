@@ -19,6 +19,10 @@ from nav_bench.errors import InputError
 
 Bounds = tuple[float, float, float, float]  # xmin, ymin, xmax, ymax in m
 
+# A planner keeps a few arrays per cell (PMO log-odds and values, PMT counts, D* Lite's g and
+# rhs...): at most ~64 bytes, so this many cells stay within about 2 GiB.
+MAX_GRID_CELLS = 1 << 25
+
 
 @dataclass(frozen=True)
 class GridFrame:
@@ -47,6 +51,10 @@ class GridFrame:
         # 1e-9: 10.0 / 0.1 is 100.00000000000001 in floating point and must stay 100 cells
         cols = max(1, math.ceil((xmax - xmin) / cell - 1e-9))
         rows = max(1, math.ceil((ymax - ymin) / cell - 1e-9))
+        if rows * cols > MAX_GRID_CELLS:
+            raise InputError(f"a {cols:,} x {rows:,} grid of {cell:g} m cells is over the "
+                             f"{MAX_GRID_CELLS:,} cells a planner's map may have; choose a "
+                             f"larger cell or a smaller world")
         return cls(xmin, ymin, float(cell), rows, cols)
 
     @property

@@ -133,6 +133,9 @@ class Param:
         elif expected in (int, float):
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 raise ParamError(f"parameter {self.name!r} expects a number ({self.unit}), got {value!r}", self.name)
+            if not math.isfinite(value):
+                raise ParamError(f"parameter {self.name!r} expects a finite number ({self.unit}), "
+                                 f"got {value!r}", self.name)
             if expected is int and float(value) != int(value):
                 raise ParamError(f"parameter {self.name!r} expects a whole number, got {value!r}", self.name)
             value = expected(value)
@@ -174,6 +177,14 @@ class Planner:
         """One control cycle: update internal state from ``obs`` and return a command."""
         raise NotImplementedError
 
+    @classmethod
+    def check_rules(cls, p: dict[str, Any]) -> None:
+        """Rules between parameters (``p``: every parameter, defaults filled in), checked
+        whenever a parameter set is resolved: by ``validate``, at suite expansion and on the
+        command line, before anything is simulated. Raise :class:`ParamError` naming the
+        parameter to fix. Optional; a rule that needs the robot or the world stays in
+        :meth:`reset`."""
+
     def debug_state(self) -> dict[str, Any]:
         """Planner state for plots and the GUI (grids, current path...); plain data. Optional."""
         return {}
@@ -202,8 +213,10 @@ def resolve_params(cls: type[Planner], overrides: dict[str, Any]) -> dict[str, A
         hint = f" Did you mean {close[0]!r}?" if close else ""
         raise ParamError(f"planner {cls.name!r} has no parameter {unknown[0]!r}.{hint} "
                          f"Parameters: {', '.join(known) or '(none)'}", unknown[0])
-    return {name: (p.check(overrides[name]) if name in overrides else p.default)
+    full = {name: (p.check(overrides[name]) if name in overrides else p.default)
             for name, p in known.items()}
+    cls.check_rules(full)
+    return full
 
 
 def wrap_angle(a: float) -> float:

@@ -44,7 +44,15 @@ from nav_bench.errors import PlannerError
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.mapping.visits import VisitGrid
-from nav_bench.planners.base import Command, Observation, Param, Planner, SonarInfo, wrap_angle
+from nav_bench.planners.base import (
+    Command,
+    Observation,
+    Param,
+    ParamError,
+    Planner,
+    SonarInfo,
+    wrap_angle,
+)
 
 FREE, UNSURE, HIGH = 0, 50, 100  # the three levels of RC, RI and the risk index r
 IPO_MODES = ("evidence", "raw")
@@ -598,15 +606,19 @@ class EOPC(Planner):
               minimum=0.001),
     )
 
+    @classmethod
+    def check_rules(cls, p: dict[str, Any]) -> None:
+        if p["lambda1"] <= p["lambda2"]:
+            raise ParamError(f"eopc needs lambda1 > lambda2, got {p['lambda1']} and "
+                             f"{p['lambda2']}", "lambda1")
+        if p["free_below"] > p["occupied_above"]:
+            raise ParamError("eopc needs free_below <= occupied_above, got "
+                             f"{p['free_below']} and {p['occupied_above']}", "free_below")
+
     # -- episode state -----------------------------------------------------------------------
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
         p = self.p
-        if p["lambda1"] <= p["lambda2"]:
-            raise PlannerError(f"eopc needs lambda1 > lambda2, got {p['lambda1']} and {p['lambda2']}")
-        if p["free_below"] > p["occupied_above"]:
-            raise PlannerError("eopc needs free_below <= occupied_above, got "
-                               f"{p['free_below']} and {p['occupied_above']}")
         sonar = obs.robot.sonar
         self._front = front_sonars(sonar, math.radians(p["front_fov_deg"]))
         if not self._front.any():

@@ -9,11 +9,11 @@ it and the goal it stops and stays. It is a baseline, not a solver of traps.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
-from nav_bench.errors import PlannerError
-from nav_bench.planners.base import Command, Observation, Param, Planner, wrap_angle
+from nav_bench.planners.base import Command, Observation, Param, ParamError, Planner, wrap_angle
 from nav_bench.planners.eopc import eo_speed, front_distance, front_sonars, steer
 
 
@@ -39,12 +39,15 @@ class GoalSeek(Planner):
         Param("goal_tolerance", 0.2, "m", "stop within this distance of the goal", minimum=0.0),
     )
 
+    @classmethod
+    def check_rules(cls, p: dict[str, Any]) -> None:
+        if p["slow_distance"] <= p["stop_distance"]:
+            raise ParamError("goal_seek needs slow_distance > stop_distance, got "
+                             f"{p['slow_distance']} and {p['stop_distance']}", "slow_distance")
+
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
         p = self.p
-        if p["slow_distance"] <= p["stop_distance"]:
-            raise PlannerError("goal_seek needs slow_distance > stop_distance, got "
-                               f"{p['slow_distance']} and {p['stop_distance']}")
         self._front = front_sonars(obs.robot.sonar, math.radians(p["front_fov_deg"]))
         self._v_max = min(p["v_max"], obs.robot.v_max)
         self._omega_max = min(p["omega_max"], obs.robot.omega_max)

@@ -78,13 +78,30 @@ class PlannerRegistry:
         return cls
 
 
+def _import_user_module(module_name: str) -> Any:
+    """Import a user's module; whatever its code raises becomes one :class:`InputError` line
+    naming the module, the exception and the line of the user's file that raised it."""
+    try:
+        return importlib.import_module(module_name)
+    except ImportError:
+        raise
+    except Exception as exc:  # the user's module ran and raised: name where
+        import traceback
+
+        frames = traceback.extract_tb(exc.__traceback__)
+        user = [f for f in frames if "importlib" not in f.filename]
+        where = f" at {user[-1].filename}:{user[-1].lineno}" if user else ""
+        raise InputError(f"planner module {module_name!r} raised on import{where}: "
+                         f"{type(exc).__name__}: {exc}") from None
+
+
 def load_dotted(target: str) -> Any:
     """Import ``package.module:Attribute``."""
     module_name, _, attr = target.partition(":")
-    if not attr:
+    if not attr or not module_name:
         raise InputError(f"expected 'package.module:ClassName', got {target!r}")
     try:
-        module = importlib.import_module(module_name)
+        module = _import_user_module(module_name)
     except ImportError as exc:
         # the `nav-bench` script does not put the working folder on sys.path (python -m does);
         # a user's planner module next to their suite should load either way
@@ -93,7 +110,7 @@ def load_dotted(target: str) -> Any:
             raise InputError(f"cannot import planner module {module_name!r}: {exc}") from None
         sys.path.append(cwd)
         try:
-            module = importlib.import_module(module_name)
+            module = _import_user_module(module_name)
         except ImportError as exc2:
             raise InputError(f"cannot import planner module {module_name!r}: {exc2}") from None
     try:

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from nav_bench.errors import SpecError, format_key_path
-from nav_bench.specs import WorldSpec
+from nav_bench.specs import GOAL_TOLERANCE_M, WorldSpec
 from nav_bench.yamlio import LineIndex
 
 BOUNDARY_THICKNESS = 0.15  # m, boundary walls lie just outside [0, sx] x [0, sy]
@@ -167,11 +167,30 @@ def obstacle_containing(geometry: StaticGeometry, xy: tuple[float, float], margi
     return None
 
 
+def check_goal_distance(world: WorldSpec, goal_tolerance: float, *,
+                        file: str | Path | None = None, index: LineIndex | None = None) -> None:
+    """Refuse a world whose goal lies within ``goal_tolerance`` (the success radius) of its
+    start: the episode would "succeed" at once."""
+    gap = math.dist(world.start[:2], world.goal)
+    if gap <= goal_tolerance:
+        raise SpecError(f"({world.goal[0]:g}, {world.goal[1]:g}) lies {gap:.3g} m from the start, "
+                        f"within the success radius of {goal_tolerance:g} m; expected a goal "
+                        f"farther away", file=file, key_path="goal",
+                        line=index.line_of(("goal",)) if index else None)
+
+
 def check_world_geometry(world: WorldSpec, *, file: str | Path | None = None,
                          index: LineIndex | None = None) -> None:
-    """Refuse a world whose start or goal lies outside it or inside an obstacle."""
-    geometry = static_geometry(world)
+    """Refuse a world whose start or goal lies outside it or inside an obstacle, or whose goal
+    lies within the default success radius of its start."""
+    from nav_bench.world.raster import RASTER_CELL_M, grid_shape, raster_budget_problem
+
     sx, sy = world.size
+    problem = raster_budget_problem(grid_shape((0.0, 0.0, sx, sy), RASTER_CELL_M), RASTER_CELL_M)
+    if problem is not None:
+        raise SpecError(f"a {sx:g} m x {sy:g} m world {problem}", file=file, key_path="size",
+                        line=index.line_of(("size",)) if index else None)
+    geometry = static_geometry(world)
     for key, xy in (("start", tuple(world.start[:2])), ("goal", tuple(world.goal))):
         line = index.line_of((key,)) if index else None
         if not (0.0 < xy[0] < sx and 0.0 < xy[1] < sy):
@@ -183,6 +202,7 @@ def check_world_geometry(world: WorldSpec, *, file: str | Path | None = None,
             what = "a boundary wall" if hit < 0 else format_key_path(("obstacles", hit))
             raise SpecError(f"({xy[0]:g}, {xy[1]:g}) lies inside {what}; expected a free point",
                             file=file, key_path=key, line=line)
+    check_goal_distance(world, GOAL_TOLERANCE_M, file=file, index=index)
     for i, mover in enumerate(world.movers):
         for j, (x, y) in enumerate(mover.path):
             if not (0.0 <= x <= sx and 0.0 <= y <= sy):

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from harness import BoxWorld, default_robot, run, u_world, wall_world
 
-from nav_bench.errors import InputError, PlannerError
+from nav_bench.errors import InputError
 from nav_bench.mapping import GridFrame
 from nav_bench.planners.base import Command, Observation
 from nav_bench.planners.eopc import (
@@ -350,8 +350,8 @@ def test_parameters_and_settings() -> None:
         EOPC(lambda_1=0.9)
     with pytest.raises(InputError):
         EOPC(ipo_mode="sum")
-    with pytest.raises(PlannerError, match="lambda1 > lambda2"):
-        EOPC(lambda1=0.3).reset(observation((1, 1, 0), [3.0] * 6), np.random.default_rng(0))
+    with pytest.raises(InputError, match="lambda1 > lambda2"):  # at construction, not in reset
+        EOPC(lambda1=0.3)
     assert all(p.unit is not None and p.doc for p in EOPC.params)
 
 
