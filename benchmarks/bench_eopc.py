@@ -25,8 +25,8 @@ from collections.abc import Callable
 
 import numpy as np
 
+from nav_bench.interface import Observation, RobotInfo, SonarInfo
 from nav_bench.mapping import OccupancyGrid, VisitGrid
-from nav_bench.planners.base import Observation, RobotInfo, SonarInfo
 from nav_bench.planners.eopc import EOPC, PCSettings, choose_neighbour
 
 

@@ -19,16 +19,14 @@ import numpy as np
 
 from nav_bench import metrics
 from nav_bench.errors import InputError, PlannerError
-from nav_bench.planners.base import Command, Observation, Planner
+from nav_bench.interface import Command, Observation, Outcome
+from nav_bench.planners.base import Planner
 from nav_bench.planners.registry import full_params, make_planner
 from nav_bench.specs import PlannerSetSpec, RobotSpec, WorldSpec, load_robot
 from nav_bench.world.geometry import polyline_length
 
 if TYPE_CHECKING:
     from nav_bench.sim.session import SimSession
-
-OUTCOMES = ("reached", "timeout", "stuck", "error")
-
 
 @dataclass(frozen=True)
 class EpisodeSettings:
@@ -221,7 +219,7 @@ def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,
     bounds = (0.0, 0.0, float(world.size[0]), float(world.size[1]))
     rec: dict[str, list[Any]] = {k: [] for k in ("t", "true_pose", "odom_pose", "cmd", "ranges", "movers")}
     events: list[dict[str, Any]] = []
-    outcome, error = "error", None
+    outcome, error = Outcome.ERROR, None
     plan_s = 0.0
     wall0 = time.perf_counter()
     sim = None
@@ -238,16 +236,16 @@ def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,
             while True:
                 true_pose = sim.true_pose()
                 if np.hypot(*(true_pose[:2] - goal)) < settings.goal_tolerance:
-                    outcome = "reached"
+                    outcome = Outcome.REACHED
                     break
                 if sim.t >= limit - 1e-9:
-                    outcome = "timeout"
+                    outcome = Outcome.TIMEOUT
                     break
                 if settings.stuck_s is not None:
                     if np.hypot(*(true_pose[:2] - stuck_anchor)) > settings.stuck_radius:
                         stuck_anchor, stuck_since = true_pose[:2].copy(), sim.t
                     elif sim.t - stuck_since >= settings.stuck_s:
-                        outcome = "stuck"
+                        outcome = Outcome.STUCK
                         break
                 ranges = sim.sense()
                 odom = sim.odometry_pose()
@@ -282,7 +280,7 @@ def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,
                 if gui:
                     time.sleep(max(0.0, dt - (time.perf_counter() - t0)))
         except Exception as exc:  # the episode ends as "error"; the batch goes on
-            outcome = "error"
+            outcome = Outcome.ERROR
             error = "".join(traceback.format_exception(exc))
         final_true = sim.true_pose() if sim is not None else np.array(world.start_pose)
         final_odom = sim.odometry_pose() if sim is not None else final_true
@@ -311,7 +309,7 @@ def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,
 
     travelled = polyline_length(xy)
     optimal = metrics.optimal_length(world, radius)
-    success = outcome == "reached"
+    success = outcome is Outcome.REACHED
     counts: dict[str, int] = {}
     for e in events:
         counts[e["kind"]] = counts.get(e["kind"], 0) + 1
@@ -323,7 +321,7 @@ def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,
         "params_id": pid,
         "seed": int(seed),
         "success": success,
-        "outcome": outcome,
+        "outcome": outcome.value,
         "time_s": round(float(sim_t), 6),
         "path_length_m": travelled,
         "optimal_length_m": optimal,

@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 from nav_bench.episode import EpisodeSettings, run_episode
-from nav_bench.planners.base import Command
+from nav_bench.interface import Command
 from nav_bench.specs import PlannerSetSpec, WorldSpec, load_robot, load_world
 
 CURVE = Command(0.3, 0.2)  # m/s, rad/s: a gentle curve, so wheels and contacts do real work

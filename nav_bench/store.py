@@ -25,13 +25,14 @@ from pathlib import Path
 from typing import Any
 
 from nav_bench.errors import InputError
+from nav_bench.interface import Outcome
 
 EPISODES = "episodes.jsonl"
 RUN = "run.json"
 TRACES = "traces"
 WORLDS = "worlds"
 
-OUTCOMES = ("reached", "timeout", "stuck", "error")
+OUTCOMES = tuple(o.value for o in Outcome)  # the words a row's outcome may take, in report order
 
 # The result row (INTERFACES.md) plus the runner's fields: field -> accepted JSON types.
 # ``float`` fields accept JSON integers too (``1`` and ``1.0`` are the same number in JSON).

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from nav_bench.episode import EpisodeSettings, Trace, run_episode
-from nav_bench.planners.base import Command, Planner
+from nav_bench.interface import Command
+from nav_bench.planners.base import Planner
 from nav_bench.specs import PlannerSetSpec, WorldSpec, load_world
 
 ROOT = Path(__file__).resolve().parents[1]

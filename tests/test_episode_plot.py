@@ -9,7 +9,8 @@ import numpy as np
 from PIL import Image
 
 from nav_bench.episode_plot import episode_title, plot_episode, replans
-from nav_bench.planners.base import Observation, Planner, RobotInfo, SonarInfo
+from nav_bench.interface import Observation, RobotInfo, SonarInfo
+from nav_bench.planners.base import Planner
 from nav_bench.planners.eopc import EOPC
 from nav_bench.planners.goal_seek import GoalSeek
 from nav_bench.specs import WorldSpec

@@ -31,7 +31,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from nav_bench.planners.base import Command, Observation, Param, Planner
+from nav_bench.interface import Command, Observation
+from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import echo_mask, limit, steer
 
 

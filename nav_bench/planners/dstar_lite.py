@@ -46,8 +46,9 @@ import numpy as np
 from scipy import ndimage
 
 from nav_bench.errors import InputError
+from nav_bench.interface import Command, Observation
 from nav_bench.mapping.occupancy import OccupancyGrid
-from nav_bench.planners.base import Command, Observation, Param, Planner
+from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import STOP, arrival_speed, pure_pursuit, steer
 
 INF = math.inf

@@ -34,10 +34,11 @@ from typing import Any
 import numpy as np
 
 from nav_bench.errors import PlannerError
+from nav_bench.interface import Command, Observation, SonarInfo, wrap_angle
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.mapping.visits import VisitGrid
-from nav_bench.planners.base import Command, Observation, Param, Planner, SonarInfo, wrap_angle
+from nav_bench.planners.base import Param, Planner
 
 FREE, UNSURE, HIGH = 0, 50, 100  # the three levels of RC, RI and the risk index r
 IPO_MODES = ("evidence", "raw")

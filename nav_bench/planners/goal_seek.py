@@ -13,7 +13,8 @@ import math
 import numpy as np
 
 from nav_bench.errors import PlannerError
-from nav_bench.planners.base import Command, Observation, Param, Planner, wrap_angle
+from nav_bench.interface import Command, Observation, wrap_angle
+from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.eopc import eo_speed, front_distance, front_sonars, steer
 
 

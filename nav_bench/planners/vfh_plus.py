@@ -39,8 +39,9 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from nav_bench.interface import Command, Observation, wrap_angle
 from nav_bench.mapping.grid import GridFrame
-from nav_bench.planners.base import Command, Observation, Param, Planner, wrap_angle
+from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import STOP, arrival_speed, limit
 
 

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 from harness import BoxWorld, default_robot, observe, open_room, run, u_world
 
-from nav_bench.planners.base import Command, Observation, Param, Planner, resolve_params
+from nav_bench.interface import Command, Observation
+from nav_bench.planners.base import Param, Planner, resolve_params
 from nav_bench.planners.registry import default_registry
 from nav_bench.specs import load_planner_set
 

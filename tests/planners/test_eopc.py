@@ -16,8 +16,8 @@ import pytest
 from harness import BoxWorld, default_robot, run
 
 from nav_bench.errors import InputError, PlannerError
+from nav_bench.interface import Command, Observation
 from nav_bench.mapping import GridFrame
-from nav_bench.planners.base import Command, Observation
 from nav_bench.planners.eopc import (
     EOPC,
     PCSettings,

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from harness import default_robot, observe, open_room, run, u_world, wall_world
 
-from nav_bench.planners.base import Observation
+from nav_bench.interface import Observation
 from nav_bench.planners.vfh_plus import (
     CertaintyGrid,
     VFHPlus,

@@ -11,7 +11,7 @@ import pytest
 from sim_helpers import make_sim, make_world
 
 from nav_bench.errors import RobotModelError
-from nav_bench.planners.base import Command, wrap_angle
+from nav_bench.interface import Command, wrap_angle
 from nav_bench.sim.robot import integrate_odometry, wheel_speeds
 from nav_bench.specs import RobotSpec, default_robot_file, load_robot
 
