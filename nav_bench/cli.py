@@ -53,7 +53,8 @@ def cmd_run(args: argparse.Namespace) -> int:
 def cmd_episode(args: argparse.Namespace) -> int:
     from nav_bench.episode import EpisodeSettings, run_episode
     from nav_bench.planners.registry import parse_planner_arg
-    from nav_bench.specs import load_robot, load_world
+    from nav_bench.specs import load_robot
+    from nav_bench.world.load import load_world
 
     world = load_world(args.world)
     planner = parse_planner_arg(args.planner)
@@ -111,8 +112,8 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 
 def cmd_show(args: argparse.Namespace) -> int:
-    from nav_bench.specs import load_world
     from nav_bench.world.draw import save_world_png
+    from nav_bench.world.load import load_world
 
     world = load_world(args.world)
     save_world_png(world, args.output)
@@ -168,8 +169,8 @@ def cmd_generate(args: argparse.Namespace) -> int:
 
 
 def cmd_import(args: argparse.Namespace) -> int:
-    from nav_bench.specs import world_from_data
     from nav_bench.world import imports
+    from nav_bench.world.load import world_from_data
 
     if args.format == "ros":
         data = imports.import_ros(Path(args.map), start=args.start, goal=args.goal,

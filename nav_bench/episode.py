@@ -19,6 +19,7 @@ import numpy as np
 
 from nav_bench import metrics
 from nav_bench.errors import InputError, PlannerError
+from nav_bench.ids import episode_rng, params_id, robot_id
 from nav_bench.interface import Command, Observation, Outcome
 from nav_bench.planners.base import Planner
 from nav_bench.planners.registry import full_params, make_planner
@@ -140,31 +141,6 @@ def _jsonable(value: Any) -> Any:
     if isinstance(value, np.ndarray):
         return value.tolist()
     return str(value)
-
-
-def params_id(planner: str, params: dict[str, Any]) -> str:
-    """Short stable hash of a planner name and its full parameter set."""
-    return metrics.stable_id(planner, params)
-
-
-def robot_id(robot: RobotSpec) -> str:
-    """Short stable hash of everything that defines the robot (URDF contents included)."""
-    dump = robot.model_dump(mode="json", exclude={"base_dir", "name"})
-    try:
-        urdf_digest = metrics.stable_id(robot.urdf_path.read_text(encoding="utf-8"), length=16)
-    except OSError:
-        urdf_digest = None
-    return metrics.stable_id(dump, urdf_digest)
-
-
-def episode_rng(world_name: str, pid: str, rid: str, seed: int) -> np.random.Generator:
-    """The episode's one random generator, derived from what identifies the episode.
-
-    The same (world, parameter set, robot, seed) gives the same stream on any machine, so any
-    episode of a batch can be replayed alone.
-    """
-    words = [int(metrics.stable_id(world_name, pid, rid, length=16), 16) & 0xFFFFFFFF, int(seed)]
-    return np.random.default_rng(np.random.SeedSequence(words))
 
 
 def _check_command(cmd: Any, robot_v: float, robot_w: float) -> Command:

@@ -56,9 +56,9 @@ EpisodeFn = Callable[[EpisodeJob, "SimSession | None"], Any]
 POLL_S = 0.2  # how often a waiting executor checks for a stop request (s)
 STARTUP_FAILURES = 3  # workers that die before they are ready, in a row, before giving up
 # imported once by the forkserver (its workers start with them loaded); nothing that prints
-PRELOAD = ("numpy", "nav_bench.episode", "nav_bench.optimal")
+PRELOAD = ("numpy", "nav_bench.episode", "nav_bench.world.optimal")
 # imported by each worker before it is ready (imports must not eat an episode's wall_s)
-WORKER_IMPORTS = ("nav_bench.episode", "nav_bench.optimal")
+WORKER_IMPORTS = ("nav_bench.episode", "nav_bench.world.optimal")
 # imported with C-level output silenced: PyBullet prints a build banner to stderr at import,
 # once per worker, through the middle of the progress bar
 QUIET_IMPORTS = ("nav_bench.sim.simulation",)

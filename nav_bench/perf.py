@@ -21,7 +21,8 @@ import numpy as np
 
 from nav_bench.episode import EpisodeSettings, run_episode
 from nav_bench.interface import Command
-from nav_bench.specs import PlannerSetSpec, WorldSpec, load_robot, load_world
+from nav_bench.specs import PlannerSetSpec, WorldSpec, load_robot
+from nav_bench.world.load import load_world
 
 CURVE = Command(0.3, 0.2)  # m/s, rad/s: a gentle curve, so wheels and contacts do real work
 

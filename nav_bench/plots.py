@@ -159,7 +159,7 @@ def load_trajectory(path: Path) -> np.ndarray | None:
 def world_of(rows: Sequence[dict[str, Any]], runs: Sequence[Run]) -> WorldSpec | None:
     """The true map of the rows' world: from a stored trace, else from the row's world_file."""
     from nav_bench.episode import read_trace_world
-    from nav_bench.specs import load_world
+    from nav_bench.world.load import load_world
 
     by_name = {run.name: run for run in runs}
     for row in rows:

@@ -3,7 +3,9 @@
 Every model forbids unknown keys. ``load_*`` functions read a file and raise
 :class:`~nav_bench.errors.SpecError` naming the file, the key path and the line.
 Units: metres, seconds, degrees only where a field name says ``_deg``.
-The suite file lives in :mod:`nav_bench.suite`.
+The suite file lives in :mod:`nav_bench.suite`; a world file is loaded (schema, then geometry)
+by :mod:`nav_bench.world.load`, a parameter set (schema, then the planner's parameters) by
+:mod:`nav_bench.planners.registry`.
 """
 
 from __future__ import annotations
@@ -15,7 +17,8 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, PositiveFloat, model_serializer, model_validator
 
-from nav_bench.errors import SpecError
+from nav_bench.errors import SpecError, format_key_path
+from nav_bench.paths import project_file
 from nav_bench.yamlio import LineIndex, load_yaml, validate
 
 Vec2 = tuple[float, float]
@@ -174,24 +177,6 @@ class WorldSpec(Strict):
         return (x, y, math.atan2(self.goal[1] - y, self.goal[0] - x))
 
 
-def world_from_data(data: Any, *, file: str | Path | None = None,
-                    index: LineIndex | None = None, name: str | None = None) -> WorldSpec:
-    """Validate already-parsed world data (structure, then geometry)."""
-    world = validate(WorldSpec, data, file=file, index=index)
-    if world.name is None:
-        world = world.model_copy(update={"name": name or (Path(file).stem if file else "world")})
-    from nav_bench.world.geometry import check_world_geometry
-
-    check_world_geometry(world, file=file, index=index)
-    return world
-
-
-def load_world(path: str | Path) -> WorldSpec:
-    """Read, validate and return the world in ``path``; name defaults to the file's stem."""
-    data, index = load_yaml(path)
-    return world_from_data(data, file=path, index=index)
-
-
 # --------------------------------------------------------------------------- robot
 class SonarSpec(Strict):
     """Ray-cast sonar model shared by every sonar of the robot."""
@@ -247,8 +232,6 @@ class RobotSpec(Strict):
 
 def default_robot_file() -> Path:
     """``robots/diffbot.yaml`` of the project (or of the installed package data)."""
-    from nav_bench.paths import project_file
-
     return project_file("robots/diffbot.yaml")
 
 
@@ -285,20 +268,8 @@ class PlannerSetSpec(Strict):
     params: dict[str, Any] = Field(default_factory=dict)
 
 
-def load_planner_set(path: str | Path) -> PlannerSetSpec:
-    """Read a planner parameter-set file. Parameter names are checked by the registry."""
-    data, index = load_yaml(path)
-    spec = validate(PlannerSetSpec, data, file=path, index=index)
-    from nav_bench.planners.registry import check_params
-
-    check_params(spec.planner, spec.params, file=path, index=index)
-    return spec
-
-
 def raise_at(problem: str, *, file: str | Path | None, index: LineIndex | None,
              loc: tuple[str | int, ...]) -> None:
     """Raise a :class:`SpecError` at key path ``loc`` of a parsed file."""
-    from nav_bench.errors import format_key_path
-
     raise SpecError(problem, file=file, key_path=format_key_path(loc),
                     line=index.line_of(loc) if index else None)

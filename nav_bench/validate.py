@@ -17,13 +17,13 @@ def _load_suite(path: Path) -> Any:
 
 
 def _load_world(path: Path) -> Any:
-    from nav_bench.specs import load_world
+    from nav_bench.world.load import load_world
 
     return load_world(path)
 
 
 def _load_planner(path: Path) -> Any:
-    from nav_bench.specs import load_planner_set
+    from nav_bench.planners.registry import load_planner_set
 
     return load_planner_set(path)
 

@@ -14,7 +14,8 @@ import pytest
 from nav_bench.episode import EpisodeSettings, Trace, run_episode
 from nav_bench.interface import Command
 from nav_bench.planners.base import Planner
-from nav_bench.specs import PlannerSetSpec, WorldSpec, load_world
+from nav_bench.specs import PlannerSetSpec, WorldSpec
+from nav_bench.world.load import load_world
 
 ROOT = Path(__file__).resolve().parents[1]
 OPEN_ROOM = ROOT / "worlds" / "paper" / "open_room.yaml"

@@ -215,7 +215,7 @@ def test_generated_worlds_are_stored_with_the_results(tmp_path, monkeypatch):
     suite = tiny.write_suite(tmp_path, seeds=1, worlds="[{generate: maze, seeds: 2}]")
     out = run_suite(suite, workers=1, out=tmp_path / "out", progress=False,
                     episode_fn=fake_episodes.instant)
-    from nav_bench.specs import load_world
+    from nav_bench.world.load import load_world
 
     rows = ResultsStore(out).rows()
     assert sorted({r["world"] for r in rows}) == ["maze_0", "maze_1"]

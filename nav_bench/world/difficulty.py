@@ -3,7 +3,7 @@
 Perille, Truong, Xiao, Stone, "Benchmarking Metric Ground Navigation" (SSRR 2020) rate a
 map by five measures, each averaged over the cells of the shortest path from start to
 goal. Here they are computed in continuous space (metres) on the true geometry, along the
-disc robot's optimal path (:func:`nav_bench.optimal.optimal_path`) sampled every
+disc robot's optimal path (:func:`nav_bench.world.optimal.optimal_path`) sampled every
 ``resolution`` m of arc length, so that a sample stands for an equal length of path:
 
 ``closest_obstacle_m``
@@ -41,9 +41,9 @@ from typing import Any
 
 import numpy as np
 
-from nav_bench.optimal import optimal_path
 from nav_bench.specs import WorldSpec
 from nav_bench.world.geometry import StaticGeometry, clearance, static_geometry
+from nav_bench.world.optimal import optimal_path
 from nav_bench.world.raster import rasterize
 
 DISPERSION_MARGIN_M = 0.45  # BARN: 3 cells of 0.15 m beyond the inflated obstacles

@@ -15,8 +15,7 @@ from harness import BoxWorld, default_robot, observe, open_room, run, u_world
 
 from nav_bench.interface import Command, Observation
 from nav_bench.planners.base import Param, Planner, resolve_params
-from nav_bench.planners.registry import default_registry
-from nav_bench.specs import load_planner_set
+from nav_bench.planners.registry import default_registry, load_planner_set
 
 NAMES = default_registry().names()
 CONFIGS = Path(__file__).resolve().parents[2] / "configs" / "planners"

@@ -8,10 +8,10 @@ import numpy as np
 from scipy import ndimage
 
 from nav_bench.errors import InputError
-from nav_bench.optimal import free_cell_near, grid_distances, grid_graph
 from nav_bench.specs import WorldSpec
 from nav_bench.world.geometry import static_geometry
 from nav_bench.world.imports.rectangles import merge_cells
+from nav_bench.world.optimal import free_cell_near, grid_distances, grid_graph
 from nav_bench.world.raster import rasterize
 
 EIGHT = np.ones((3, 3), dtype=bool)  # 8-connectivity for ndimage.label
