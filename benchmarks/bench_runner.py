@@ -34,9 +34,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))  # tests.helpers.fake_episodes: trivial episode functions
 
-from nav_bench.executors import LocalPool, make_executor, run_job  # noqa: E402
-from nav_bench.runner import run_suite  # noqa: E402
-from nav_bench.suite import expand, load_suite  # noqa: E402
+from nav_bench.batch.executors import LocalPool, make_executor  # noqa: E402
+from nav_bench.batch.runner import run_suite  # noqa: E402
+from nav_bench.batch.suite import expand, load_suite  # noqa: E402
+from nav_bench.batch.worker import run_job  # noqa: E402
 from tests.helpers import fake_episodes, tiny  # noqa: E402
 
 

@@ -37,13 +37,13 @@ def _key_value(text: str) -> tuple[str, Any]:
 
 # --------------------------------------------------------------------------- commands
 def cmd_run(args: argparse.Namespace) -> int:
-    from nav_bench.runner import run_suite
+    from nav_bench.batch.runner import run_suite
 
     out = run_suite(args.suite, workers=args.workers, out=args.out, resume=args.resume,
                     executor=args.executor, progress=not args.quiet)
     print(f"results: {out}")
     if not args.no_report:
-        from nav_bench.report import write_report
+        from nav_bench.reporting.markdown import write_report
 
         report = write_report([out], out=None)
         print(f"report:  {report}")
@@ -62,14 +62,14 @@ def cmd_episode(args: argparse.Namespace) -> int:
     settings = EpisodeSettings(time_s=args.time_limit, stuck_s=None if args.no_stuck else 30.0)
     live = None
     if args.live or args.record:
-        from nav_bench.live import LiveView
+        from nav_bench.reporting.live import LiveView
 
         live = LiveView(world, every_s=0.5, show=args.live, save=args.record)
     result = run_episode(world, planner, seed=args.seed, robot=robot, settings=settings,
                          world_file=args.world, gui=args.gui, live=live)
     row = result.row
     if args.plot:
-        from nav_bench.episode_plot import plot_episode
+        from nav_bench.reporting.episode_plot import plot_episode
 
         plot_episode(result.trace, args.plot)
     if args.trace:
@@ -94,7 +94,7 @@ def _fmt(value: float | None) -> str:
 
 
 def cmd_report(args: argparse.Namespace) -> int:
-    from nav_bench.report import write_report
+    from nav_bench.reporting.markdown import write_report
 
     path = write_report([Path(d) for d in args.dirs], out=args.out)
     print(f"report: {path}")

@@ -3,7 +3,7 @@
 Every model forbids unknown keys. ``load_*`` functions read a file and raise
 :class:`~nav_bench.errors.SpecError` naming the file, the key path and the line.
 Units: metres, seconds, degrees only where a field name says ``_deg``.
-The suite file lives in :mod:`nav_bench.suite`; a world file is loaded (schema, then geometry)
+The suite file lives in :mod:`nav_bench.batch.suite`; a world file is loaded (schema, then geometry)
 by :mod:`nav_bench.world.load`, a parameter set (schema, then the planner's parameters) by
 :mod:`nav_bench.planners.registry`.
 """

@@ -11,7 +11,7 @@ from nav_bench.yamlio import load_yaml
 
 
 def _load_suite(path: Path) -> Any:
-    from nav_bench.suite import load_suite
+    from nav_bench.batch.suite import load_suite
 
     return load_suite(path)
 

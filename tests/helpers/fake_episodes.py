@@ -1,6 +1,6 @@
 """Fake episode functions for runner tests: no simulation, deterministic rows.
 
-Each takes an :class:`~nav_bench.suite.EpisodeJob` and the worker's session (unused) and
+Each takes an :class:`~nav_bench.batch.suite.EpisodeJob` and the worker's session (unused) and
 returns an object with ``row`` and ``trace`` like :func:`nav_bench.episode.run_episode`'s
 result. Module-level functions, so worker processes (forkserver, spawn, Dask) can import
 them by name.
@@ -13,7 +13,7 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
-from nav_bench.suite import EpisodeJob
+from nav_bench.batch.suite import EpisodeJob
 
 
 @dataclass

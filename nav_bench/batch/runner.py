@@ -1,8 +1,8 @@
 """``nav-bench run``: play a suite's episodes on an executor and keep every result.
 
-:func:`run_suite` expands the suite (:mod:`nav_bench.suite`), runs the episodes not yet done
-on an executor (:mod:`nav_bench.executors`) and stores each row and trace as it arrives
-(:mod:`nav_bench.store`). Guarantees:
+:func:`run_suite` expands the suite (:mod:`nav_bench.batch.suite`), runs the episodes not yet done
+on an executor (:mod:`nav_bench.batch.executors`) and stores each row and trace as it arrives
+(:mod:`nav_bench.batch.store`). Guarantees:
 
 * results are never lost: each row is fsync'ed before the next is awaited; ``kill -9`` of the
   runner loses at most the episodes in flight, and ``--resume DIR`` plays exactly the missing
@@ -29,10 +29,9 @@ from pathlib import Path
 from typing import Any
 
 from nav_bench import __version__
-from nav_bench.errors import InputError, NavBenchError
-from nav_bench.executors import EpisodeFn, JobOutcome, make_executor, run_job
-from nav_bench.store import ResultsStore
-from nav_bench.suite import (
+from nav_bench.batch.executors import make_executor
+from nav_bench.batch.store import ResultsStore
+from nav_bench.batch.suite import (
     EpisodeJob,
     Suite,
     default_suite_file,
@@ -42,6 +41,8 @@ from nav_bench.suite import (
     suite_from_data,
     with_world_files,
 )
+from nav_bench.batch.worker import EpisodeFn, JobOutcome, run_job
+from nav_bench.errors import InputError, NavBenchError
 
 RUN_FORMAT = 1
 
@@ -231,7 +232,7 @@ def run_suite(suite_path: str | Path | None, *, workers: int | None = None,
         resume: a results folder to finish: plays only the episodes without a row.
         executor: ``local``, ``dask`` or ``dask:tcp://HOST:PORT``.
         progress: show a progress bar on stderr.
-        episode_fn: plays one :class:`~nav_bench.suite.EpisodeJob` (for tests and benchmarks;
+        episode_fn: plays one :class:`~nav_bench.batch.suite.EpisodeJob` (for tests and benchmarks;
             must be importable by worker processes).
     Raises:
         InputError: bad suite, executor or folder (nothing simulated).

@@ -10,15 +10,15 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:  # worker processes import tests.helpers.* by name
     sys.path.insert(0, str(ROOT))
 
+from nav_bench.batch.executors import LocalPool, make_executor  # noqa: E402
+from nav_bench.batch.runner import run_suite  # noqa: E402
+from nav_bench.batch.store import ResultsStore, check_row  # noqa: E402
+from nav_bench.batch.suite import expand, load_suite  # noqa: E402
 from nav_bench.errors import InputError, UnknownNameError  # noqa: E402
-from nav_bench.executors import LocalPool, make_executor  # noqa: E402
-from nav_bench.runner import run_suite  # noqa: E402
-from nav_bench.store import ResultsStore, check_row  # noqa: E402
-from nav_bench.suite import expand, load_suite  # noqa: E402
 from tests.helpers import fake_episodes, tiny  # noqa: E402
 
 

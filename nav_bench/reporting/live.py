@@ -21,8 +21,8 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
-from nav_bench.episode_plot import RISK_COLORS, TRUE_COLOR, event_fields, grid_extent
 from nav_bench.errors import InputError
+from nav_bench.reporting.episode_plot import RISK_COLORS, TRUE_COLOR, event_fields, grid_extent
 from nav_bench.specs import WorldSpec
 from nav_bench.world.draw import draw_world
 

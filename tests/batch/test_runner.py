@@ -17,15 +17,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:  # worker processes import tests.helpers.* by name
     sys.path.insert(0, str(ROOT))
 
+from nav_bench.batch.runner import run_suite  # noqa: E402
+from nav_bench.batch.store import ResultsStore, ResultsWarning, check_row  # noqa: E402
+from nav_bench.batch.suite import expand, load_suite  # noqa: E402
+from nav_bench.batch.worker import finish_row, run_job  # noqa: E402
 from nav_bench.errors import InputError, UnknownNameError  # noqa: E402
-from nav_bench.executors import finish_row, run_job  # noqa: E402
-from nav_bench.runner import run_suite  # noqa: E402
-from nav_bench.store import ResultsStore, ResultsWarning, check_row  # noqa: E402
-from nav_bench.suite import expand, load_suite  # noqa: E402
 from tests.helpers import fake_episodes, tiny  # noqa: E402
 
 
@@ -95,7 +95,7 @@ RUNNER_SCRIPT = textwrap.dedent("""\
     import sys
     from pathlib import Path
     sys.path.insert(0, {root!r})
-    from nav_bench.runner import RunInterrupted, run_suite
+    from nav_bench.batch.runner import RunInterrupted, run_suite
     from tests.helpers.fake_episodes import sleepy
 
     if __name__ == "__main__":  # worker processes import this file: no run there

@@ -1,4 +1,4 @@
-"""Episode figures (nav_bench.episode_plot) from a duck-typed trace."""
+"""Episode figures (nav_bench.reporting.episode_plot) from a duck-typed trace."""
 
 from __future__ import annotations
 
@@ -8,11 +8,11 @@ from types import SimpleNamespace
 import numpy as np
 from PIL import Image
 
-from nav_bench.episode_plot import episode_title, plot_episode, replans
 from nav_bench.interface import Observation, RobotInfo, SonarInfo
 from nav_bench.planners.base import Planner
 from nav_bench.planners.eopc import EOPC
 from nav_bench.planners.goal_seek import GoalSeek
+from nav_bench.reporting.episode_plot import episode_title, plot_episode, replans
 from nav_bench.specs import WorldSpec
 
 WORLD = WorldSpec(name="wall", size=(8.0, 6.0), start=[1.0, 3.0, 0.0], goal=(7.0, 3.0),

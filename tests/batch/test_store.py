@@ -7,8 +7,14 @@ import math
 
 import pytest
 
+from nav_bench.batch.store import (
+    ROW_FIELDS,
+    ResultsStore,
+    ResultsWarning,
+    RowSchemaError,
+    check_row,
+)
 from nav_bench.errors import InputError
-from nav_bench.store import ROW_FIELDS, ResultsStore, ResultsWarning, RowSchemaError, check_row
 
 
 def good_row(job_id: str = "w__a__diffbot__s0__00000000", **changes) -> dict:
