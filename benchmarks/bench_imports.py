@@ -24,16 +24,16 @@ from pathlib import Path
 
 import numpy as np
 
-from nav_bench.optimal import (
+from nav_bench.world.geometry import static_geometry
+from nav_bench.world.imports import import_barn, import_movingai, import_ros, read_scen
+from nav_bench.world.load import world_from_data
+from nav_bench.world.optimal import (
     grid_distances,
     grid_graph,
     grid_path,
     optimal_path,
     raster_optimal_path,
 )
-from nav_bench.specs import world_from_data
-from nav_bench.world.geometry import static_geometry
-from nav_bench.world.imports import import_barn, import_movingai, import_ros, read_scen
 from nav_bench.world.raster import rasterize
 
 REPO = Path(__file__).resolve().parents[1]

@@ -34,9 +34,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))  # tests.helpers.fake_episodes: trivial episode functions
 
-from nav_bench.executors import LocalPool, make_executor, run_job  # noqa: E402
-from nav_bench.runner import run_suite  # noqa: E402
-from nav_bench.suite import expand, load_suite  # noqa: E402
+from nav_bench.batch.executors import LocalPool, make_executor  # noqa: E402
+from nav_bench.batch.runner import run_suite  # noqa: E402
+from nav_bench.batch.suite import expand, load_suite  # noqa: E402
+from nav_bench.batch.worker import run_job  # noqa: E402
 from tests.helpers import fake_episodes, tiny  # noqa: E402
 
 
@@ -76,9 +77,9 @@ def throughput(executor: str, workers: int, jobs) -> tuple[float, float, float, 
     first = None
     walls = []
     for outcome in runner.run(jobs, run_job):
-        walls.append(outcome.row["wall_s"])
+        walls.append(outcome.row.wall_s)
         if first is None:  # the first episode's own time is work, not start-up
-            first = time.perf_counter() - t0 - outcome.row["wall_s"]
+            first = time.perf_counter() - t0 - outcome.row.wall_s
     total = time.perf_counter() - t0
     startup = max(0.0, first or 0.0)
     n = len(walls)

@@ -22,7 +22,7 @@ import time
 
 import numpy as np
 
-from nav_bench.planners.base import Command
+from nav_bench.interface import Command
 from nav_bench.sim import SimSession, Simulation
 from nav_bench.sim.scene import SceneLayout
 from nav_bench.specs import WorldSpec, load_robot

@@ -7,6 +7,7 @@ Exit status: 0 success, 2 bad input (nothing simulated), 1 anything else, 130 in
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import sys
@@ -16,6 +17,7 @@ from typing import Any, NoReturn
 
 from nav_bench import __version__
 from nav_bench.errors import InputError, NavBenchError
+from nav_bench.interface import Outcome
 
 Handler = Callable[[argparse.Namespace], int]
 
@@ -70,15 +72,15 @@ def _key_value(text: str) -> tuple[str, Any]:
 
 # --------------------------------------------------------------------------- commands
 def cmd_run(args: argparse.Namespace) -> int:
-    from nav_bench.runner import run_suite
-    from nav_bench.store import ResultsStore
+    from nav_bench.batch.runner import run_suite
+    from nav_bench.batch.store import ResultsStore
 
     out = run_suite(args.suite, workers=args.workers, out=args.out, resume=args.resume,
                     executor=args.executor, progress=not args.quiet,
                     retry_errors=args.retry_errors)
     print(f"results: {out}")
     if not args.no_report:
-        from nav_bench.report import write_report
+        from nav_bench.reporting.markdown import write_report
 
         report = write_report([out], out=None)
         print(f"report:  {report}")
@@ -92,49 +94,53 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 
 def cmd_episode(args: argparse.Namespace) -> int:
-    from nav_bench.episode import EpisodeSettings, run_episode
+    from nav_bench.episode import EpisodeSettings
+    from nav_bench.episode.loop import run_episode
     from nav_bench.planners.registry import parse_planner_arg
-    from nav_bench.specs import load_robot, load_world
+    from nav_bench.specs import load_robot
+    from nav_bench.world.load import load_world
 
     world = load_world(args.world)
     planner = parse_planner_arg(args.planner)
     robot = load_robot(args.robot) if args.robot else load_robot()
-    settings = EpisodeSettings(time_s=args.time_limit, stuck_s=None if args.no_stuck else 30.0)
+    settings = EpisodeSettings(time_s=args.time_limit)
+    if args.no_stuck:
+        settings = dataclasses.replace(settings, stuck_s=None)
     live = None
     if args.live or args.record:
-        from nav_bench.live import LiveView
+        from nav_bench.reporting.live import LiveView
 
         live = LiveView(world, every_s=0.5, show=args.live, save=args.record)
     result = run_episode(world, planner, seed=args.seed, robot=robot, settings=settings,
                          world_file=args.world, gui=args.gui, live=live)
     row = result.row
     if args.plot:
-        from nav_bench.episode_plot import plot_episode
+        from nav_bench.reporting.episode_plot import plot_episode
 
         plot_episode(result.trace, args.plot)
     if args.trace:
         result.trace.save(args.trace)
     if args.json:
-        print(json.dumps(row, default=str))
+        print(json.dumps(row.to_json(), default=str))
     else:
-        print(f"{row['world']} / {row['planner']} seed {row['seed']}: {row['outcome']} in "
-              f"{row['time_s']:.1f} s simulated ({row['wall_s']:.2f} s wall), path "
-              f"{row['path_length_m']:.2f} m (optimal {_fmt(row['optimal_length_m'])} m), "
-              f"SPL {row['spl']:.3f}, re-plans {row['replans']}, collisions {row['collisions']}, "
-              f"min clearance {row['min_clearance_m']:.3f} m")
-        if row["error"]:
-            print(row["error"], file=sys.stderr)
+        print(f"{row.world} / {row.planner} seed {row.seed}: {row.outcome} in "
+              f"{_fmt(row.time_s, 1)} s simulated ({row.wall_s:.2f} s wall), path "
+              f"{_fmt(row.path_length_m)} m (optimal {_fmt(row.optimal_length_m)} m), "
+              f"SPL {row.spl:.3f}, re-plans {row.replans}, collisions {row.collisions}, "
+              f"min clearance {_fmt(row.min_clearance_m, 3)} m")
+        if row.error:
+            print(row.error, file=sys.stderr)
         if args.plot:
             print(f"plot: {args.plot}")
-    return 0 if row["outcome"] != "error" else 1
+    return 0 if row.outcome is not Outcome.ERROR else 1
 
 
-def _fmt(value: float | None) -> str:
-    return "n/a" if value is None else f"{value:.2f}"
+def _fmt(value: float | None, digits: int = 2) -> str:
+    return "n/a" if value is None else f"{value:.{digits}f}"
 
 
 def cmd_report(args: argparse.Namespace) -> int:
-    from nav_bench.report import write_report
+    from nav_bench.reporting.markdown import write_report
 
     path = write_report([Path(d) for d in args.dirs], out=args.out)
     print(f"report: {path}")
@@ -152,8 +158,8 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 
 def cmd_show(args: argparse.Namespace) -> int:
-    from nav_bench.specs import load_world
     from nav_bench.world.draw import save_world_png
+    from nav_bench.world.load import load_world
 
     world = load_world(args.world)
     save_world_png(world, args.output)
@@ -209,8 +215,8 @@ def cmd_generate(args: argparse.Namespace) -> int:
 
 
 def cmd_import(args: argparse.Namespace) -> int:
-    from nav_bench.specs import world_from_data
     from nav_bench.world import imports
+    from nav_bench.world.load import world_from_data
 
     if args.format == "ros":
         data = imports.import_ros(Path(args.map), start=args.start, goal=args.goal,
@@ -344,7 +350,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     except OSError as exc:  # a file nav-bench had to write or read failed: one line, not a traceback
-        from nav_bench.store import describe_os_error
+        from nav_bench.batch.store import describe_os_error
 
         print(f"nav-bench {args.command}: error: {describe_os_error(exc)}", file=sys.stderr)
         return 1

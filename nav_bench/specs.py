@@ -3,19 +3,24 @@
 Every model forbids unknown keys. ``load_*`` functions read a file and raise
 :class:`~nav_bench.errors.SpecError` naming the file, the key path and the line.
 Units: metres, seconds, degrees only where a field name says ``_deg``.
-The suite file lives in :mod:`nav_bench.suite`.
+The suite file lives in :mod:`nav_bench.batch.suite`; a world file is loaded (schema, then geometry)
+by :mod:`nav_bench.world.load`, a parameter set (schema, then the planner's parameters) by
+:mod:`nav_bench.planners.registry`.
 """
 
 from __future__ import annotations
 
 import difflib
+import functools
 import math
+import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, PositiveFloat, model_serializer, model_validator
 
-from nav_bench.errors import SpecError
+from nav_bench.errors import SpecError, format_key_path
+from nav_bench.paths import project_file
 from nav_bench.yamlio import LineIndex, load_yaml, validate
 
 MAX_COORD_M = 1e5  # every world coordinate and length is within 100 km (PyBullet and rasters)
@@ -182,24 +187,6 @@ class WorldSpec(Strict):
         return (x, y, math.atan2(self.goal[1] - y, self.goal[0] - x))
 
 
-def world_from_data(data: Any, *, file: str | Path | None = None,
-                    index: LineIndex | None = None, name: str | None = None) -> WorldSpec:
-    """Validate already-parsed world data (structure, then geometry)."""
-    world = validate(WorldSpec, data, file=file, index=index)
-    if world.name is None:
-        world = world.model_copy(update={"name": name or (Path(file).stem if file else "world")})
-    from nav_bench.world.geometry import check_world_geometry
-
-    check_world_geometry(world, file=file, index=index)
-    return world
-
-
-def load_world(path: str | Path) -> WorldSpec:
-    """Read, validate and return the world in ``path``; name defaults to the file's stem."""
-    data, index = load_yaml(path)
-    return world_from_data(data, file=path, index=index)
-
-
 # --------------------------------------------------------------------------- robot
 class SonarSpec(Strict):
     """Ray-cast sonar model shared by every sonar of the robot."""
@@ -255,9 +242,30 @@ class RobotSpec(Strict):
 
 def default_robot_file() -> Path:
     """``robots/diffbot.yaml`` of the project (or of the installed package data)."""
-    from nav_bench.paths import project_file
-
     return project_file("robots/diffbot.yaml")
+
+
+@functools.cache
+def default_robot_radius() -> float:
+    """Body radius (m) of the default robot, read from its URDF: the circle about the root
+    link's origin that holds the link's collision cylinders and spheres. The simulator reads
+    the same number from the same shapes; world tools without a simulator (generators,
+    importers, difficulty) default their ``robot_radius`` to it."""
+    urdf = load_robot().urdf_path
+    root = ET.parse(urdf).getroot()
+    children = {j.find("child").get("link") for j in root.iter("joint")}
+    base = next(link for link in root.iter("link") if link.get("name") not in children)
+    radius = 0.0
+    for shape in base.iter("collision"):
+        origin = shape.find("origin")
+        x, y = ([float(v) for v in origin.get("xyz", "0 0 0").split()][:2]
+                if origin is not None else (0.0, 0.0))
+        geometry = next(iter(shape.find("geometry")))
+        if geometry.tag not in ("cylinder", "sphere"):
+            raise SpecError(f"the base link's collision {geometry.tag} gives no radius here; "
+                            f"pass robot_radius explicitly", file=urdf)
+        radius = max(radius, math.hypot(x, y) + float(geometry.get("radius")))
+    return radius
 
 
 def load_robot(path: str | Path | None = None, overrides: dict[str, Any] | None = None) -> RobotSpec:
@@ -293,20 +301,8 @@ class PlannerSetSpec(Strict):
     params: dict[str, Any] = Field(default_factory=dict)
 
 
-def load_planner_set(path: str | Path) -> PlannerSetSpec:
-    """Read a planner parameter-set file. Parameter names are checked by the registry."""
-    data, index = load_yaml(path)
-    spec = validate(PlannerSetSpec, data, file=path, index=index)
-    from nav_bench.planners.registry import check_params
-
-    check_params(spec.planner, spec.params, file=path, index=index)
-    return spec
-
-
 def raise_at(problem: str, *, file: str | Path | None, index: LineIndex | None,
              loc: tuple[str | int, ...]) -> None:
     """Raise a :class:`SpecError` at key path ``loc`` of a parsed file."""
-    from nav_bench.errors import format_key_path
-
     raise SpecError(problem, file=file, key_path=format_key_path(loc),
                     line=index.line_of(loc) if index else None)

@@ -167,7 +167,7 @@ def test_non_finite_numbers_in_movers_walls_and_robots_are_refused(tmp_path, cap
 
 
 def test_a_world_built_in_code_with_nan_is_refused_too():
-    from nav_bench.specs import world_from_data
+    from nav_bench.world.load import world_from_data
 
     with pytest.raises(SpecError, match=r"size\[0\]: expected a finite number"):
         world_from_data({"size": [float("nan"), 3], "start": [1, 1], "goal": [2, 2]})
@@ -250,7 +250,7 @@ def test_rasters_and_planner_grids_refuse_to_allocate_past_the_budget():
     from nav_bench.world.raster import rasterize
 
     world = yamlio.parse_yaml(WORLD)[0]
-    from nav_bench.specs import world_from_data
+    from nav_bench.world.load import world_from_data
 
     geometry = static_geometry(world_from_data(world))
     with pytest.raises(InputError, match="memory budget"):
@@ -336,9 +336,9 @@ def test_out_into_a_folder_with_the_users_files_is_refused(tmp_path, capsys):
 
 
 def test_a_second_writer_is_refused_naming_the_first(tmp_path):
+    from nav_bench.batch.runner import run_suite
+    from nav_bench.batch.store import ResultsStore
     from nav_bench.errors import InputError
-    from nav_bench.runner import run_suite
-    from nav_bench.store import ResultsStore
     from tests.helpers import fake_episodes
 
     suite = _tiny_suite(tmp_path)
@@ -363,10 +363,10 @@ def test_a_full_disk_stops_the_run_truthfully_and_resume_redoes_lost_traces(tmp_
     import errno
     import json
 
-    from nav_bench import runner, store
-    from nav_bench.episode import Trace
-    from nav_bench.runner import RunStorageError, run_suite
-    from nav_bench.store import ResultsStore
+    from nav_bench.batch import runner, store
+    from nav_bench.batch.runner import RunStorageError, run_suite
+    from nav_bench.batch.store import ResultsStore
+    from nav_bench.episode.trace import Trace
     from tests.helpers import fake_episodes
 
     suite = _tiny_suite(tmp_path, seeds=3)  # 12 episodes
@@ -409,8 +409,8 @@ def test_a_full_disk_stops_the_run_truthfully_and_resume_redoes_lost_traces(tmp_
 
 # --------------------------------------------------------------------------- resume, exit codes
 def test_resume_retry_errors_replays_error_rows_and_strict_exits_3(tmp_path, capsys):
-    from nav_bench.runner import run_suite
-    from nav_bench.store import ResultsStore
+    from nav_bench.batch.runner import run_suite
+    from nav_bench.batch.store import ResultsStore
     from tests.helpers import fake_episodes
 
     suite = _tiny_suite(tmp_path, seeds=2)  # seed 1 raises in seed_dependent
@@ -427,7 +427,7 @@ def test_resume_retry_errors_replays_error_rows_and_strict_exits_3(tmp_path, cap
 
 
 def test_run_strict_exits_3_when_error_rows_exist(tmp_path, capsys, monkeypatch):
-    import nav_bench.runner as runner
+    import nav_bench.batch.runner as runner
     from tests.helpers import fake_episodes
 
     real = runner.run_suite

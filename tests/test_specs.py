@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from nav_bench.errors import SpecError, SpecErrors
-from nav_bench.specs import load_world, world_from_data
 from nav_bench.world.geometry import clearance, static_geometry
+from nav_bench.world.load import load_world, world_from_data
 
 ROOT = Path(__file__).resolve().parents[1]
 BROKEN = ROOT / "tests" / "data" / "broken_worlds"

@@ -31,8 +31,8 @@ import math
 import numpy as np
 
 from nav_bench.errors import InputError
+from nav_bench.interface import SonarInfo
 from nav_bench.mapping.grid import Bounds, GridFrame, OnGridFrame
-from nav_bench.planners.base import SonarInfo
 
 UNKNOWN = 50  # value of a cell never observed (log-odds 0)
 

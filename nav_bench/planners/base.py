@@ -1,107 +1,23 @@
-"""What a planner sees (:class:`Observation`) and returns (:class:`Command`), and its base class.
+"""The planner base class and its parameters (:class:`Param`).
 
-Planners never touch the simulator: they get plain data, keep their own maps, and
-return a command. Units: metres, seconds, radians.
+Planners never touch the simulator: they get plain data (:class:`~nav_bench.interface.Observation`),
+keep their own maps, and return a :class:`~nav_bench.interface.Command`. Units: metres, seconds,
+radians.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from dataclasses import dataclass, field
+from collections.abc import Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Any, ClassVar
 
 import numpy as np
 
 from nav_bench.errors import InputError
-
-
-@dataclass(frozen=True)
-class SonarInfo:
-    """Where the sonars sit and what they can measure (fixed for an episode).
-
-    Attributes:
-        angles: (K,) mount yaw of each sonar relative to the robot heading, rad (CCW +).
-        offsets: (K, 2) mount position of each sonar in the robot frame, m (x forward, y left).
-        cone: full opening angle of each cone, rad.
-        min_range, max_range: measurable range, m. A reading of ``max_range`` means "nothing seen".
-    """
-
-    angles: np.ndarray
-    offsets: np.ndarray
-    cone: float
-    min_range: float
-    max_range: float
-
-
-@dataclass(frozen=True)
-class RobotInfo:
-    """Robot geometry and limits a planner may use.
-
-    Attributes:
-        radius: body radius, m. wheel_base: distance between the wheels, m.
-        v_max: top translation speed the drive allows, m/s. omega_max: top turn rate, rad/s.
-    """
-
-    radius: float
-    wheel_base: float
-    v_max: float
-    omega_max: float
-    sonar: SonarInfo
-
-
-@dataclass(frozen=True)
-class Observation:
-    """One control cycle's input to a planner.
-
-    Attributes:
-        t: simulated time since the start, s.
-        pose: (3,) odometry pose estimate ``x, y, yaw`` (m, m, rad) in the world frame.
-        goal: (2,) goal position, m.
-        ranges: (K,) sonar readings, m, in ``robot.sonar`` order; ``max_range`` = no echo.
-        robot: geometry and limits.
-        bounds: ``(xmin, ymin, xmax, ymax)`` of the area the grids should cover, m
-            (the world's extent; the paper sizes its fixed grid map from it).
-        dt: control period, s.
-    """
-
-    t: float
-    pose: np.ndarray
-    goal: np.ndarray
-    ranges: np.ndarray
-    robot: RobotInfo
-    bounds: tuple[float, float, float, float]
-    dt: float
-
-    def sonar_hits(self) -> np.ndarray:
-        """(K, 2) world-frame points of the readings (max-range readings included), m."""
-        x, y, yaw = self.pose
-        s = self.robot.sonar
-        c, si = math.cos(yaw), math.sin(yaw)
-        ox = x + c * s.offsets[:, 0] - si * s.offsets[:, 1]
-        oy = y + si * s.offsets[:, 0] + c * s.offsets[:, 1]
-        ang = yaw + s.angles
-        return np.stack([ox + self.ranges * np.cos(ang), oy + self.ranges * np.sin(ang)], axis=1)
-
-
-@dataclass(frozen=True)
-class Command:
-    """Body velocity command: translation ``v`` (m/s, + forward) and turn rate ``omega`` (rad/s, CCW +)."""
-
-    v: float
-    omega: float
-
-
-@dataclass(frozen=True)
-class PlannerEvent:
-    """Something a planner wants recorded in the trace (a re-plan, a blocked cycle...).
-
-    ``kind`` is a short word; ``replan`` events are counted in the result row's ``replans``.
-    ``data`` holds plain JSON-able values (lists, floats, strings).
-    """
-
-    kind: str
-    t: float
-    data: dict[str, Any] = field(default_factory=dict)
+from nav_bench.interface import REPLAN, Command, Observation, PlannerEvent
 
 
 class ParamError(InputError):
@@ -150,20 +66,39 @@ class Param:
         return value
 
 
+def settings_class(owner: str, params: tuple[Param, ...], module: str) -> type:
+    """A frozen dataclass with one attribute per :class:`Param` (its default as default), so
+    a planner reads ``self.settings.lambda2`` and a typo fails at once."""
+    fields = [(p.name, type(p.default), dataclasses.field(default=p.default)) for p in params]
+    cls = dataclasses.make_dataclass(f"{owner}Settings", fields, frozen=True)
+    cls.__module__, cls.__qualname__ = module, f"{owner}.Settings"  # pickled by this name
+    cls.__doc__ = "Parameters of the planner, with defaults:\n\n" + "\n".join(
+        f"* ``{p.name}`` = {p.default!r} {p.unit}: {p.doc}" for p in params)
+    return cls
+
+
 class Planner:
     """Base class of every planner.
 
     Subclasses set ``name`` and ``params`` (a tuple of :class:`Param`), implement
     :meth:`reset` and :meth:`act`, and call :meth:`emit` for events. Parameter values
-    are on ``self.p`` (a dict with defaults filled in).
+    are attributes of ``self.settings`` (a frozen ``Settings`` object generated from
+    ``params``, defaults filled in); ``self.p`` holds the same values as a read-only mapping.
     """
 
     name: ClassVar[str] = ""
     params: ClassVar[tuple[Param, ...]] = ()
     reference: ClassVar[str] = ""
+    Settings: ClassVar[type] = settings_class("Planner", (), __name__)
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        cls.Settings = settings_class(cls.__name__, cls.params, cls.__module__)
 
     def __init__(self, **overrides: Any) -> None:
-        self.p: dict[str, Any] = resolve_params(type(self), overrides)
+        values = resolve_params(type(self), overrides)
+        self.settings: Any = type(self).Settings(**values)
+        self.p: Mapping[str, Any] = MappingProxyType(values)
         self._events: list[PlannerEvent] = []
         self.replans = 0
 
@@ -192,7 +127,7 @@ class Planner:
     # -- helpers ---------------------------------------------------------------
     def emit(self, kind: str, t: float, **data: Any) -> None:
         """Record an event; ``replan`` events increase :attr:`replans`."""
-        if kind == "replan":
+        if kind == REPLAN:
             self.replans += 1
         self._events.append(PlannerEvent(kind, t, data))
 
@@ -217,9 +152,3 @@ def resolve_params(cls: type[Planner], overrides: dict[str, Any]) -> dict[str, A
             for name, p in known.items()}
     cls.check_rules(full)
     return full
-
-
-def wrap_angle(a: float) -> float:
-    """Angle wrapped to (-pi, pi]."""
-    a = (a + math.pi) % (2 * math.pi) - math.pi
-    return math.pi if a == -math.pi else a

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from nav_bench.errors import InputError
-from nav_bench.planners.base import Command, Observation, RobotInfo, wrap_angle
+from nav_bench.interface import Command, Observation, RobotInfo, wrap_angle
 
 LEFT, RIGHT = 1, -1  # side signs: +1 = the robot's left (+y), -1 = its right
 # modes of the bug family (Bug2, TangentBug): drive to the goal, follow a boundary, give up

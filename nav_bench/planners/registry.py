@@ -16,10 +16,12 @@ from importlib.metadata import entry_points
 from pathlib import Path
 from typing import Any
 
-from nav_bench.errors import InputError, UnknownNameError
+import yaml
+
+from nav_bench.errors import InputError, SpecError, UnknownNameError
 from nav_bench.planners.base import ParamError, Planner, resolve_params
 from nav_bench.specs import PlannerSetSpec
-from nav_bench.yamlio import LineIndex
+from nav_bench.yamlio import LineIndex, load_yaml, validate
 
 ENTRY_POINT_GROUP = "nav_bench.planners"
 
@@ -133,8 +135,6 @@ def default_registry() -> PlannerRegistry:
 def check_params(planner: str, params: dict[str, Any], *, file: str | Path | None = None,
                  index: LineIndex | None = None, registry: PlannerRegistry | None = None) -> dict[str, Any]:
     """Full parameter dict for ``planner``; errors name the file, ``params.<key>`` and its line."""
-    from nav_bench.errors import SpecError
-
     registry = registry or default_registry()
     try:
         cls = registry.get(planner)
@@ -149,16 +149,20 @@ def check_params(planner: str, params: dict[str, Any], *, file: str | Path | Non
                         line=index.line_of(loc) if index else None) from None
 
 
+def load_planner_set(path: str | Path) -> PlannerSetSpec:
+    """Read a planner parameter-set file. Parameter names are checked by the registry."""
+    data, index = load_yaml(path)
+    spec = validate(PlannerSetSpec, data, file=path, index=index)
+    check_params(spec.planner, spec.params, file=path, index=index)
+    return spec
+
+
 def parse_planner_arg(text: str) -> PlannerSetSpec:
     """A CLI/suite planner reference as a parameter set.
 
     ``eopc`` (a name), ``configs/planners/eopc_paper.yaml`` (a file),
     ``eopc:RR=0.4,lambda1=0.9`` (name with overrides), ``pkg.mod:Cls`` (a dotted path).
     """
-    import yaml
-
-    from nav_bench.specs import load_planner_set
-
     if text.endswith((".yaml", ".yml")):
         return load_planner_set(text)
     name, overrides = text, {}

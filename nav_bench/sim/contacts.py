@@ -13,9 +13,8 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from nav_bench.metrics import footprint_clearance, mover_radius
 from nav_bench.specs import Mover
-from nav_bench.world.geometry import StaticGeometry
+from nav_bench.world.geometry import StaticGeometry, footprint_clearance, mover_radius
 
 # A manifold point counts as touching when its separation is below this (m). PyBullet keeps
 # contact points up to a few mm apart in its manifolds; those are near misses, not contacts.

@@ -28,7 +28,7 @@ import pybullet
 from pybullet_utils.bullet_client import BulletClient
 
 from nav_bench.errors import RobotModelError
-from nav_bench.planners.base import Command, wrap_angle
+from nav_bench.interface import Command, wrap_angle
 from nav_bench.sim.session import GROUP_ROBOT, ROBOT_MASK, quiet_c_stdout
 from nav_bench.specs import DriveSpec, RobotSpec
 

@@ -23,7 +23,7 @@ import numpy as np
 import pybullet
 
 from nav_bench.errors import SimulationError
-from nav_bench.planners.base import Command, RobotInfo, SonarInfo
+from nav_bench.interface import Command, RobotInfo, SonarInfo
 from nav_bench.sim.contacts import CONTACT_DISTANCE, ContactEpisodes, ContactWindow
 from nav_bench.sim.movers import MoverBodies
 from nav_bench.sim.robot import DiffDriveRobot

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from nav_bench.errors import SpecError, format_key_path
-from nav_bench.specs import GOAL_TOLERANCE_M, WorldSpec
+from nav_bench.specs import GOAL_TOLERANCE_M, Mover, WorldSpec
 from nav_bench.yamlio import LineIndex
 
 BOUNDARY_THICKNESS = 0.15  # m, boundary walls lie just outside [0, sx] x [0, sy]
@@ -177,6 +177,31 @@ def check_goal_distance(world: WorldSpec, goal_tolerance: float, *,
                         f"within the success radius of {goal_tolerance:g} m; expected a goal "
                         f"farther away", file=file, key_path="goal",
                         line=index.line_of(("goal",)) if index else None)
+
+
+def mover_radius(mover: Mover) -> float:
+    """Radius of the disc that bounds a mover's footprint (m)."""
+    if mover.shape.cylinder is not None:
+        return mover.shape.cylinder.radius
+    sx, sy = mover.shape.box.size
+    return float(np.hypot(sx, sy) / 2)
+
+
+def footprint_clearance(geometry: StaticGeometry, xy: np.ndarray, robot_radius: float,
+                        mover_radii: np.ndarray | None = None,
+                        mover_xy: np.ndarray | None = None) -> np.ndarray:
+    """(T,) gap (m) between the robot's footprint disc at each of (T, 2) positions and the
+    nearest obstacle; negative means overlap.
+
+    Static geometry is exact; movers (``mover_radii`` (M,) m, ``mover_xy`` (T, M, 2) m) count
+    by their bounding discs (:func:`mover_radius`), so a box mover's gap is slightly small.
+    """
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    gaps = clearance(geometry, xy)
+    if mover_xy is not None and mover_radii is not None and len(mover_radii):
+        d = np.linalg.norm(np.asarray(mover_xy, dtype=float) - xy[:, None, :], axis=2)
+        gaps = np.minimum(gaps, (d - mover_radii[None, :]).min(axis=1))
+    return gaps - robot_radius
 
 
 def check_world_geometry(world: WorldSpec, *, file: str | Path | None = None,

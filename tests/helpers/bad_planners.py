@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import time
 
-from nav_bench.planners.base import Command, Observation, Param, Planner
+from nav_bench.interface import Command, Observation
+from nav_bench.planners.base import Param, Planner
 
 
 class Raises(Planner):

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from nav_bench.errors import InputError
+from nav_bench.interface import SonarInfo
 from nav_bench.mapping import GridFrame, OccupancyGrid, log_odds_to_values
-from nav_bench.planners.base import SonarInfo
 
 FREE_ONCE = 40  # round(100 / (1 + e^0.4)): one l_free = -0.4 on an unknown cell
 OCC_ONCE = 70  # round(100 / (1 + e^-0.85)): one l_occ = 0.85

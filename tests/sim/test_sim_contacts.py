@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from sim_helpers import make_sim, make_world
 
-from nav_bench.planners.base import Command
+from nav_bench.interface import Command
 from nav_bench.sim import Simulation
 from nav_bench.sim.contacts import ContactEpisodes
 

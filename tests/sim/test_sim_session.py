@@ -8,7 +8,7 @@ import pytest
 from sim_helpers import make_sim, make_world
 
 from nav_bench.errors import SimulationError
-from nav_bench.planners.base import Command
+from nav_bench.interface import Command
 from nav_bench.sim import SimSession, Simulation
 from nav_bench.specs import load_robot
 

@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from nav_bench.specs import world_from_data
 from nav_bench.world.difficulty import cast_rays, difficulty, sample_polyline
 from nav_bench.world.geometry import static_geometry
+from nav_bench.world.load import world_from_data
 
 SQ2 = math.sqrt(2.0)
 

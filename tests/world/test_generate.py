@@ -14,9 +14,7 @@ import pytest
 import yaml
 
 from nav_bench.errors import InputError, UnknownNameError
-from nav_bench.optimal import optimal_path
 from nav_bench.paths import project_file
-from nav_bench.specs import load_world, world_from_data
 from nav_bench.world.generate import (
     add_movers,
     generate_world,
@@ -36,6 +34,8 @@ from nav_bench.world.generate.maze import maze_walls
 from nav_bench.world.generate.movers import point_segment_distance
 from nav_bench.world.generate.placement import shape_gaps
 from nav_bench.world.geometry import clearance, static_geometry
+from nav_bench.world.load import load_world, world_from_data
+from nav_bench.world.optimal import optimal_path
 
 KINDS = sorted(list_generators())
 ROBOT = 0.18

@@ -11,8 +11,6 @@ import pytest
 import yaml
 
 from nav_bench.errors import InputError, SpecError
-from nav_bench.optimal import grid_distances, grid_graph, optimal_path
-from nav_bench.specs import load_world, world_from_data
 from nav_bench.world.geometry import clearance, static_geometry
 from nav_bench.world.imports import (
     dump_world_yaml,
@@ -27,6 +25,8 @@ from nav_bench.world.imports import (
 from nav_bench.world.imports.barn import reference_path
 from nav_bench.world.imports.rectangles import rects_to_mask
 from nav_bench.world.imports.ros import read_pgm
+from nav_bench.world.load import load_world, world_from_data
+from nav_bench.world.optimal import grid_distances, grid_graph, optimal_path
 from nav_bench.world.raster import rasterize
 
 REPO = Path(__file__).resolve().parents[2]

@@ -8,7 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from nav_bench.optimal import (
+from nav_bench.world.geometry import clearance, static_geometry
+from nav_bench.world.load import world_from_data
+from nav_bench.world.optimal import (
     grid_distances,
     grid_path,
     grid_path_length,
@@ -17,8 +19,6 @@ from nav_bench.optimal import (
     string_pull,
     tighten,
 )
-from nav_bench.specs import world_from_data
-from nav_bench.world.geometry import clearance, static_geometry
 from nav_bench.world.raster import rasterize
 
 SQ2 = math.sqrt(2.0)

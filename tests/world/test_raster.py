@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from nav_bench.specs import world_from_data
 from nav_bench.world.geometry import clearance, static_geometry
+from nav_bench.world.load import world_from_data
 from nav_bench.world.raster import grid_shape, rasterize
 
 

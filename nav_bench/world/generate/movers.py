@@ -31,9 +31,9 @@ from typing import Any
 import numpy as np
 
 from nav_bench.errors import InputError
-from nav_bench.specs import world_from_data
 from nav_bench.world.generate.common import DECIMALS, DEFAULT_ROBOT_RADIUS, unit_vector
 from nav_bench.world.geometry import StaticGeometry, clearance, static_geometry
+from nav_bench.world.load import world_from_data
 
 CLEAR = 0.02  # m, extra room between a mover and the static geometry, the edge, other movers
 SAMPLE_STEP = 0.02  # m, spacing of the clearance checks along a path

@@ -1,7 +1,7 @@
 """Map importers: ROS map_server maps, MovingAI grid maps, BARN Gazebo worlds.
 
 Each ``import_*`` function returns plain world data (a dict ready for
-:func:`nav_bench.specs.world_from_data`) with attribution in ``meta`` (``source``,
+:func:`nav_bench.world.load.world_from_data`) with attribution in ``meta`` (``source``,
 ``licence``); :func:`write_world_yaml` writes it as a readable world file.
 """
 

@@ -47,16 +47,19 @@ from typing import Annotated, Any
 
 from pydantic import Field, PositiveFloat
 
+from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.errors import InputError, SpecError, SpecErrors, UnknownNameError, format_key_path
-from nav_bench.metrics import stable_id
+from nav_bench.ids import params_id, robot_id, stable_id
+from nav_bench.paths import project_file, project_roots
+from nav_bench.planners.registry import check_params, load_planner_set, parse_planner_arg
 from nav_bench.specs import (
     PlannerSetSpec,
     RobotSpec,
     Strict,
     WorldSpec,
     load_robot,
-    world_from_data,
 )
+from nav_bench.world.load import load_world, world_from_data
 from nav_bench.yamlio import LineIndex, load_yaml, validate
 
 Loc = tuple[str | int, ...]
@@ -320,7 +323,6 @@ class _Resolver:
     from any working folder."""
 
     def __init__(self, cwd: Path, suite_dir: Path | None) -> None:
-        from nav_bench.paths import project_roots
 
         self.cwd = cwd
         bases = [cwd, *([suite_dir] if suite_dir else []), *(p.resolve() for p in project_roots())]
@@ -373,7 +375,6 @@ def _inside(path: Path, folder: Path) -> bool:
 # --------------------------------------------------------------------------- loading
 def default_suite_file() -> Path:
     """``configs/suites/default.yaml`` of the project."""
-    from nav_bench.paths import project_file
 
     return project_file("configs/suites/default.yaml")
 
@@ -416,8 +417,6 @@ def suite_from_data(data: Any, *, file: str | None = None, index: LineIndex | No
 
 def _settings(limits: Limits, file: str | None, index: LineIndex | None) -> tuple[dict[str, Any],
                                                                                   float | None]:
-    from nav_bench.episode import EpisodeSettings
-
     given = limits.model_dump(exclude_unset=True)
     wall_s = given.pop("wall_s", DEFAULT_WALL_S)
     try:
@@ -478,7 +477,6 @@ def _world_files(entry: str, resolver: _Resolver, seen: set[Path], file: str | N
     if not hits:
         where = " or ".join(str(b) for b in resolver.bases())
         raise _err(f"{entry!r} matches no world file (looked in {where})", file, index, loc)
-    from nav_bench.specs import load_world
 
     items = []
     for path, given in hits:
@@ -531,9 +529,6 @@ def _generated_worlds(family: GeneratorFamily, file: str | None, index: LineInde
 
 def _planners(entries: dict[str, Any], resolver: _Resolver, file: str | None,
               index: LineIndex | None) -> list[PlannerItem]:
-    from nav_bench.episode import params_id
-    from nav_bench.planners.registry import check_params, parse_planner_arg
-    from nav_bench.specs import load_planner_set
 
     items: list[PlannerItem] = []
     labels: set[str] = set()
@@ -588,7 +583,6 @@ def _planners(entries: dict[str, Any], resolver: _Resolver, file: str | None,
 
 def _robots(entry: Any, resolver: _Resolver, file: str | None,
             index: LineIndex | None) -> list[RobotItem]:
-    from nav_bench.episode import robot_id
 
     loc: Loc = ("robot",)
     robot_file: Path | None = None

@@ -25,7 +25,8 @@ from typing import Any
 
 import numpy as np
 
-from nav_bench.planners.base import Command, Observation, Planner, RobotInfo, SonarInfo
+from nav_bench.interface import Command, Observation, RobotInfo, SonarInfo
+from nav_bench.planners.base import Planner
 
 SONAR_ANGLES_DEG = (-90.0, -45.0, -15.0, 15.0, 45.0, 90.0)
 

@@ -1,6 +1,6 @@
 """The Dask executor: episodes on a Dask cluster, results written by the client (this process).
 
-Kept apart from :mod:`nav_bench.executors` because importing ``distributed`` takes ~0.5 s,
+Kept apart from :mod:`nav_bench.batch.executors` because importing ``distributed`` takes ~0.5 s,
 which local runs and their worker processes should not pay.
 """
 
@@ -19,8 +19,8 @@ from typing import Any
 
 from distributed.diagnostics.plugin import WorkerPlugin
 
-from nav_bench.errors import InputError
-from nav_bench.executors import (
+from nav_bench.batch.suite import EpisodeJob
+from nav_bench.batch.worker import (
     POLL_S,
     PRELOAD,
     EpisodeFn,
@@ -32,7 +32,7 @@ from nav_bench.executors import (
     execute_job,
     finish_row,
 )
-from nav_bench.suite import EpisodeJob
+from nav_bench.errors import InputError
 
 log = logging.getLogger(__name__)
 

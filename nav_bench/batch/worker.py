@@ -1,33 +1,21 @@
-"""Where episodes run: worker processes on this machine, or a Dask cluster beyond it.
-
-An executor takes the jobs still to play and yields one :class:`JobOutcome` per job as it
-finishes, in completion order. It never writes results: the runner (the parent process, or
-the Dask client) does, so a folder has exactly one writer wherever the episodes ran.
+"""One job on one worker: the worker process, its pipe, and the outcome it sends back.
 
 Every episode runs in a worker process that can be killed: an episode that exceeds its
 wall-clock limit (``limits.wall_s``) -- a planner caught in an endless loop, a physics step
 that never returns -- is killed with its process, recorded as outcome ``error`` with the
 reason, and a fresh worker takes its place. ``concurrent.futures.ProcessPoolExecutor`` cannot
-do that (killing one of its workers breaks the whole pool), hence the small pool here: one
-process per worker slot with a pipe, reused from episode to episode (a pipe round trip costs
-well under a millisecond; starting a process with numpy and PyBullet imported costs ~0.5 s).
-
-Processes start with ``forkserver`` where available (a server process imports nav-bench once,
-then forks clean workers from it: fast, and no PyBullet client is ever forked), else ``spawn``.
-Plain ``fork`` is not used: it would copy the parent's threads and state (a Dask client, an
-open PyBullet connection) into the child.
-
-Executors are named: ``local`` (this machine, ``--workers N``), ``dask`` (a Dask LocalCluster
-on 127.0.0.1 with N worker processes) and ``dask:tcp://HOST:PORT`` (an existing scheduler);
-the Dask executor lives in :mod:`nav_bench.executors_dask`, imported only when asked for
-(importing ``distributed`` costs ~0.5 s, which every local worker would otherwise pay).
+do that (killing one of its workers breaks the whole pool), hence the small pool in
+:mod:`nav_bench.batch.executors`: one process per worker slot with a pipe, reused from episode
+to episode (a pipe round trip costs well under a millisecond; starting a process with numpy
+and PyBullet imported costs ~0.5 s). The Dask executor (:mod:`nav_bench.batch.dask`) runs the
+same worker process inside each Dask task.
 """
 
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import importlib
-import itertools
 import logging
 import math
 import multiprocessing
@@ -36,14 +24,14 @@ import signal
 import sys
 import time
 import traceback
-from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from multiprocessing.connection import wait as wait_for
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Any
 
-from nav_bench.errors import InputError, NavBenchError, UnknownNameError
-from nav_bench.suite import EpisodeJob
+from nav_bench.batch.suite import EpisodeJob
+from nav_bench.episode import EpisodeSettings, ResultRow
+from nav_bench.errors import NavBenchError
 
 if TYPE_CHECKING:  # imported for real in the workers only: PyBullet prints a banner at import
     from nav_bench.sim.session import SimSession
@@ -56,12 +44,12 @@ EpisodeFn = Callable[[EpisodeJob, "SimSession | None"], Any]
 POLL_S = 0.2  # how often a waiting executor checks for a stop request (s)
 STARTUP_FAILURES = 3  # workers that die before they are ready, in a row, before giving up
 # imported once by the forkserver (its workers start with them loaded); nothing that prints
-PRELOAD = ("numpy", "nav_bench.episode", "nav_bench.optimal")
+PRELOAD = ("numpy", "nav_bench.episode", "nav_bench.world.optimal")
 # imported by each worker before it is ready (imports must not eat an episode's wall_s)
-WORKER_IMPORTS = ("nav_bench.episode", "nav_bench.optimal")
+WORKER_IMPORTS = ("nav_bench.episode", "nav_bench.world.optimal")
 # imported with C-level output silenced: PyBullet prints a build banner to stderr at import,
 # once per worker, through the middle of the progress bar
-QUIET_IMPORTS = ("nav_bench.sim.simulation",)
+QUIET_IMPORTS = ("nav_bench.episode.loop",)
 
 
 class ExecutorError(NavBenchError):
@@ -75,46 +63,36 @@ class JobOutcome:
     before it had one)."""
 
     job_id: str
-    row: dict[str, Any]
+    row: ResultRow
     trace: Any | None
 
 
 def run_job(job: EpisodeJob, session: SimSession | None = None) -> Any:
-    """The real episode function: play ``job`` with :func:`nav_bench.episode.run_episode`,
+    """The real episode function: play ``job`` with :func:`nav_bench.episode.loop.run_episode`,
     in ``session`` (a :class:`~nav_bench.sim.session.SimSession`) when one is given."""
-    from nav_bench.episode import EpisodeSettings, run_episode
+    # imported here, in the worker: the parent process never imports the simulator
+    from nav_bench.episode.loop import run_episode
 
     return run_episode(job.world, job.planner, seed=job.seed, robot=job.robot,
                        settings=EpisodeSettings(**job.settings), world_file=job.world_file,
                        session=session)
 
 
-def error_row(job: EpisodeJob, error: str, wall_s: float) -> dict[str, Any]:
-    """The row of an episode that did not finish: outcome ``error``, measured fields null."""
-    return {
-        "world": job.world_name, "world_file": job.world_file, "planner": job.planner.planner,
-        "params": job.params, "params_id": job.params_id, "seed": job.seed,
-        "success": False, "outcome": "error", "time_s": None, "path_length_m": None,
-        "optimal_length_m": None, "spl": 0.0, "replans": None, "collisions": None,
-        "min_clearance_m": None, "wall_s": wall_s, "settings": job.settings, "events": {},
-        "error": error,
-    }
+def error_row(job: EpisodeJob, error: str, wall_s: float) -> ResultRow:
+    """The row of a job whose episode did not finish: outcome ``error``, measurements null."""
+    return ResultRow.failure(world=job.world_name, world_file=job.world_file,
+                           planner=job.planner.planner, params=job.params,
+                           params_id=job.params_id, seed=job.seed, settings=job.settings,
+                           error=error, wall_s=wall_s)
 
 
-def finish_row(row: dict[str, Any], job: EpisodeJob) -> dict[str, Any]:
-    """The row as stored: the job's identity first, then the episode's fields."""
-    out: dict[str, Any] = {"job_id": job.job_id, "label": job.label}
-    out.update(row)
-    out["world_file"] = job.world_file
-    out["robot"] = job.robot_label  # the variant label ("diffbot[sonar.noise_std=0.02]")
-    out["robot_id"] = row.get("robot_id") or job.robot_id
-    limit = job.settings.get("time_s")
-    if limit is None:  # the episode's default limit scales with the world's size
-        from nav_bench.episode import EpisodeSettings
-
-        limit = EpisodeSettings(**job.settings).time_limit(job.world)
-    out["time_limit_s"] = float(limit)
-    return out
+def finish_row(row: ResultRow, job: EpisodeJob) -> ResultRow:
+    """The row as stored: with the job's identity, its robot label and its time limit."""
+    return dataclasses.replace(
+        row, job_id=job.job_id, label=job.label, world_file=job.world_file,
+        robot=job.robot_label,  # the variant label ("diffbot[sonar.noise_std=0.02]")
+        robot_id=row.robot_id or job.robot_id,
+        time_limit_s=float(EpisodeSettings(**job.settings).time_limit(job.world)))
 
 
 def execute_job(job: EpisodeJob, episode_fn: EpisodeFn,
@@ -124,7 +102,7 @@ def execute_job(job: EpisodeJob, episode_fn: EpisodeFn,
     t0 = time.perf_counter()
     try:
         result = episode_fn(job, session)
-        row, trace = dict(result.row), result.trace
+        row, trace = result.row, result.trace
     except Exception:
         row = error_row(job, traceback.format_exc(), time.perf_counter() - t0)
         trace = None
@@ -199,7 +177,7 @@ def _worker_main(conn: Any, imports: Sequence[str]) -> None:
             except (BrokenPipeError, EOFError, OSError):
                 return
             except Exception:  # the trace or row would not pickle: keep the row, say why
-                outcome.row["trace_error"] = traceback.format_exc()
+                outcome.row.trace_error = traceback.format_exc()
                 conn.send(JobOutcome(outcome.job_id, outcome.row, None))
     finally:
         session.close()
@@ -297,101 +275,3 @@ class WorkerProcess:
             outcome = self.collect(time.monotonic())
             if outcome is not None:
                 return outcome
-
-
-# --------------------------------------------------------------------------- executors
-class Executor(Protocol):
-    """Runs jobs and yields outcomes as they finish."""
-
-    def describe(self) -> dict[str, Any]: ...
-
-    def run(self, jobs: Sequence[EpisodeJob], episode_fn: EpisodeFn, *,
-            should_stop: Callable[[], bool]) -> Iterator[JobOutcome]: ...
-
-
-class LocalPool:
-    """Episodes on ``workers`` processes of this machine (default: one per CPU core)."""
-
-    def __init__(self, workers: int | None = None, start_method: str | None = None,
-                 preload: Sequence[str] = PRELOAD) -> None:
-        if workers is not None and workers < 1:
-            raise InputError(f"--workers must be at least 1, got {workers}")
-        self.workers = workers or os.cpu_count() or 1
-        self.start_method = start_method or default_start_method()
-        self.preload = tuple(preload)
-
-    def describe(self) -> dict[str, Any]:
-        return {"name": "local", "workers": self.workers, "start_method": self.start_method}
-
-    def _context(self) -> Any:
-        ctx = multiprocessing.get_context(self.start_method)
-        if self.start_method == "forkserver":
-            # takes effect when the server starts (once per process); later calls are no-ops
-            ctx.set_forkserver_preload(list(self.preload))
-        return ctx
-
-    def run(self, jobs: Sequence[EpisodeJob], episode_fn: EpisodeFn, *,
-            should_stop: Callable[[], bool] = lambda: False) -> Iterator[JobOutcome]:
-        if not jobs:
-            return
-        ctx = self._context()
-        queue = deque(jobs)
-        count = min(self.workers, len(jobs))
-        names = (f"nav-bench-worker-{i}" for i in itertools.count())
-        workers = [WorkerProcess(ctx, next(names)) for _ in range(count)]
-        failed_starts = 0
-        try:
-            while queue or any(w.job is not None for w in workers):
-                if should_stop():
-                    return
-                for w in workers:
-                    if w.idle and queue:
-                        w.send(queue.popleft(), episode_fn)
-                deadline = min((w.deadline() for w in workers), default=math.inf)
-                timeout = min(POLL_S, max(0.0, deadline - time.monotonic()))
-                wait_for([x for w in workers for x in w.waitables()], timeout)
-                now = time.monotonic()
-                for i, w in enumerate(workers):
-                    was_ready = w.ready
-                    outcome = w.collect(now)
-                    if outcome is not None:
-                        yield outcome
-                    if w.dead:
-                        failed_starts = 0 if was_ready else failed_starts + 1
-                        if failed_starts >= STARTUP_FAILURES:
-                            raise ExecutorError(
-                                f"{failed_starts} worker processes died while starting (last "
-                                f"exit code {w.process.exitcode}); see the messages above")
-                        if queue:
-                            workers[i] = WorkerProcess(ctx, next(names))
-                    elif w.ready and not was_ready:
-                        failed_starts = 0
-                workers = [w for w in workers if not (w.dead and not queue)]
-        finally:
-            for w in workers:
-                if should_stop():
-                    w.kill()  # in-flight episodes are dropped; a resume plays them again
-                else:
-                    w.stop()
-
-
-EXECUTORS = ("local", "dask")
-
-
-def make_executor(spec: str, workers: int | None = None) -> Executor:
-    """``local``, ``dask`` or ``dask:tcp://HOST:PORT``; unknown names get a did-you-mean."""
-    name, _, arg = spec.partition(":")
-    if name not in EXECUTORS:
-        raise UnknownNameError("executor", name, EXECUTORS)
-    if name == "local":
-        if arg:
-            raise InputError(f"the local executor takes no address, got {spec!r}")
-        return LocalPool(workers)
-    try:
-        from nav_bench.executors_dask import DaskExecutor
-    except ModuleNotFoundError as exc:
-        if (exc.name or "").split(".")[0] not in ("dask", "distributed"):
-            raise
-        raise InputError("the dask executor needs the 'distributed' package: "
-                         "pip install 'nav-bench[dask]'") from None
-    return DaskExecutor(workers, address=arg or None)

@@ -1,8 +1,8 @@
 """``nav-bench run``: play a suite's episodes on an executor and keep every result.
 
-:func:`run_suite` expands the suite (:mod:`nav_bench.suite`), runs the episodes not yet done
-on an executor (:mod:`nav_bench.executors`) and stores each row and trace as it arrives
-(:mod:`nav_bench.store`). Guarantees:
+:func:`run_suite` expands the suite (:mod:`nav_bench.batch.suite`), runs the episodes not yet done
+on an executor (:mod:`nav_bench.batch.executors`) and stores each row and trace as it arrives
+(:mod:`nav_bench.batch.store`). Guarantees:
 
 * results are never lost: each row is fsync'ed before the next is awaited; ``kill -9`` of the
   runner loses at most the episodes in flight, and ``--resume DIR`` plays exactly the missing
@@ -29,10 +29,9 @@ from pathlib import Path
 from typing import Any
 
 from nav_bench import __version__
-from nav_bench.errors import InputError, NavBenchError
-from nav_bench.executors import EpisodeFn, JobOutcome, make_executor, run_job
-from nav_bench.store import ResultsStore, describe_os_error, is_disk_full
-from nav_bench.suite import (
+from nav_bench.batch.executors import make_executor
+from nav_bench.batch.store import ResultsStore, describe_os_error, is_disk_full
+from nav_bench.batch.suite import (
     EpisodeJob,
     Suite,
     default_suite_file,
@@ -42,6 +41,10 @@ from nav_bench.suite import (
     suite_from_data,
     with_world_files,
 )
+from nav_bench.batch.worker import EpisodeFn, JobOutcome, run_job
+from nav_bench.episode.row import ResultRow
+from nav_bench.errors import InputError, NavBenchError
+from nav_bench.interface import Outcome
 
 RUN_FORMAT = 1
 
@@ -102,12 +105,12 @@ class _StopRequests:
 class _Progress:
     """A tqdm bar: done/total, successes and errors so far, elapsed and remaining time."""
 
-    def __init__(self, total: int, done_rows: list[dict[str, Any]], desc: str,
+    def __init__(self, total: int, done_rows: list[ResultRow], desc: str,
                  enabled: bool) -> None:
         from tqdm import tqdm
 
-        self.ok = sum(1 for r in done_rows if r.get("success"))
-        self.errors = sum(1 for r in done_rows if r.get("outcome") == "error")
+        self.ok = sum(1 for r in done_rows if r.success)
+        self.errors = sum(1 for r in done_rows if r.outcome is Outcome.ERROR)
         self.bar = tqdm(total=total, initial=len(done_rows), desc=desc, unit="ep",
                         disable=not enabled, file=sys.stderr, dynamic_ncols=True)
         self._postfix()
@@ -115,9 +118,9 @@ class _Progress:
     def _postfix(self) -> None:
         self.bar.set_postfix_str(f"reached {self.ok}, errors {self.errors}", refresh=False)
 
-    def update(self, row: dict[str, Any]) -> None:
-        self.ok += bool(row.get("success"))
-        self.errors += row.get("outcome") == "error"
+    def update(self, row: ResultRow) -> None:
+        self.ok += row.success
+        self.errors += row.outcome is Outcome.ERROR
         self._postfix()
         self.bar.update(1)
 
@@ -212,20 +215,20 @@ def _write_generated_worlds(suite: Suite, store: ResultsStore) -> dict[str, str]
     return files
 
 
-def _store_outcome(store: ResultsStore, outcome: JobOutcome) -> dict[str, Any]:
+def _store_outcome(store: ResultsStore, outcome: JobOutcome) -> ResultRow:
     """Trace first (atomically), then the row: a stored row always has its trace."""
     row = outcome.row
-    row["trace"] = None
+    row.trace = None
     if outcome.trace is not None:
         path = store.trace_path(outcome.job_id)
         tmp = path.with_name(f".{path.name}.tmp")
         try:
             outcome.trace.save(tmp)
             os.replace(tmp, path)
-            row["trace"] = f"{path.parent.name}/{path.name}"
+            row.trace = f"{path.parent.name}/{path.name}"
         except Exception as exc:  # a trace that cannot be written must not cost the row
             tmp.unlink(missing_ok=True)
-            row["trace_error"] = f"{type(exc).__name__}: {exc}"
+            row.trace_error = f"{type(exc).__name__}: {exc}"
             if isinstance(exc, OSError) and is_disk_full(exc):
                 store.append(row)  # keep the row if it still fits (resume replays it)
                 raise
@@ -250,7 +253,7 @@ def run_suite(suite_path: str | Path | None, *, workers: int | None = None,
             (a planner that raised, a worker killed from outside, a hang past ``wall_s``).
         executor: ``local``, ``dask`` or ``dask:tcp://HOST:PORT``.
         progress: show a progress bar on stderr.
-        episode_fn: plays one :class:`~nav_bench.suite.EpisodeJob` (for tests and benchmarks;
+        episode_fn: plays one :class:`~nav_bench.batch.suite.EpisodeJob` (for tests and benchmarks;
             must be importable by worker processes).
     Raises:
         InputError: bad suite, executor or folder; a folder another run is writing (its
@@ -323,8 +326,8 @@ def _run_locked(store: ResultsStore, suite_arg: Any, *, resume: bool, runner: An
 
     with store:
         jobs = with_world_files(jobs, _write_generated_worlds(suite, store))
-        done_rows = store.rows()
-        done = {r.get("job_id") for r in done_rows}
+        done_rows = store.results()
+        done = {r.job_id for r in done_rows}
         pending = [j for j in jobs if j.job_id not in done]
         env = environment()
         session: dict[str, Any] = {"started": _now(), "ended": None, "status": "running",
@@ -343,8 +346,8 @@ def _run_locked(store: ResultsStore, suite_arg: Any, *, resume: bool, runner: An
             if ended:
                 session["ended"] = meta["ended"] = _now()
             meta["done"] = len(done_rows)
-            meta["errors"] = sum(1 for r in done_rows if r.get("outcome") == "error")
-            meta["reached"] = sum(1 for r in done_rows if r.get("success"))
+            meta["errors"] = sum(1 for r in done_rows if r.outcome is Outcome.ERROR)
+            meta["reached"] = sum(1 for r in done_rows if r.success)
             store.write_run(meta)
 
         save_meta("running")

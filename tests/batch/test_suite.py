@@ -7,10 +7,10 @@ from pathlib import Path
 
 import pytest
 
+from nav_bench.batch.suite import expand, load_suite, parse_seeds, sweep
 from nav_bench.errors import SpecError
-from nav_bench.suite import expand, load_suite, parse_seeds, sweep
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 WORLD = """\
 name: {name}

@@ -1,4 +1,4 @@
-"""The live map view (nav_bench.live): frames every 0.5 s simulated, GIF without a screen."""
+"""The live map view (nav_bench.reporting.live): frames every 0.5 s simulated, GIF without a screen."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 from PIL import Image
 
 from nav_bench.errors import InputError
-from nav_bench.live import LiveView
+from nav_bench.reporting.live import LiveView
 from nav_bench.specs import WorldSpec
 
 WORLD = WorldSpec(name="room", size=(6.0, 4.0), start=[1.0, 2.0], goal=(5.0, 2.0))

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import matplotlib
 
@@ -21,9 +21,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-if TYPE_CHECKING:
-    from nav_bench.report import GroupStats, Run
-    from nav_bench.specs import WorldSpec
+from nav_bench.reporting.runs import Run, load_trajectory, trace_path, world_of
+from nav_bench.reporting.statistics import GroupStats, share_reached_within
+from nav_bench.world.draw import draw_world
 
 DPI = 110
 
@@ -80,8 +80,6 @@ def _time_horizon(rows: Sequence[dict[str, Any]]) -> float:
 
 def _draw_within_time(ax: Any, rows: Sequence[dict[str, Any]], order: Sequence[str],
                       horizon: float, legend: bool) -> None:
-    from nav_bench.report import share_reached_within
-
     t = np.linspace(0.0, horizon, 400)
     for name, color in zip(order, _colors(len(order)), strict=True):
         mine = [r for r in rows if r["set"] == name]
@@ -140,57 +138,12 @@ def success_within_time_by_world(rows: Sequence[dict[str, Any]], order: Sequence
     return path
 
 
-def trace_path(run: Run, row: dict[str, Any]) -> Path:
-    """Where a row's trace lies in its results folder."""
-    rel = row.get("trace") or f"traces/{row.get('job_id')}.npz"
-    return run.folder / rel
-
-
-def load_trajectory(path: Path) -> np.ndarray | None:
-    """(T, 2) true positions from a stored trace, or None if it is missing or unreadable."""
-    from nav_bench.episode import read_trace_positions
-
-    try:
-        return read_trace_positions(path)
-    except (OSError, KeyError, ValueError):
-        return None
-
-
-def world_of(rows: Sequence[dict[str, Any]], runs: Sequence[Run]) -> WorldSpec | None:
-    """The true map of the rows' world: from a stored trace, else from the row's world_file."""
-    from nav_bench.episode import read_trace_world
-    from nav_bench.specs import load_world
-
-    by_name = {run.name: run for run in runs}
-    for row in rows:
-        run = by_name[row["run"]]
-        try:
-            return read_trace_world(trace_path(run, row))
-        except Exception:  # no trace, an older format: try the world file
-            continue
-    for row in rows:
-        run = by_name[row["run"]]
-        file = row.get("world_file")
-        if not file:
-            continue
-        cwd = Path((run.meta.get("suite") or {}).get("cwd") or ".")
-        for candidate in (Path(file), cwd / file):
-            if candidate.is_file():
-                try:
-                    return load_world(candidate)
-                except Exception:
-                    break
-    return None
-
-
 def trajectories(world_name: str, rows: Sequence[dict[str, Any]], runs: Sequence[Run],
                  order: Sequence[str], path: Path) -> Path | None:
     """Every episode's true path on ``world_name``, coloured by parameter set, over the map.
 
     Ends are marked: a dot for reached, a cross for anything else. None if no trace exists.
     """
-    from nav_bench.world.draw import draw_world
-
     by_name = {run.name: run for run in runs}
     paths = []
     for row in rows:

@@ -10,15 +10,15 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:  # worker processes import tests.helpers.* by name
     sys.path.insert(0, str(ROOT))
 
+from nav_bench.batch.executors import LocalPool, make_executor  # noqa: E402
+from nav_bench.batch.runner import run_suite  # noqa: E402
+from nav_bench.batch.store import ResultsStore, check_row  # noqa: E402
+from nav_bench.batch.suite import expand, load_suite  # noqa: E402
 from nav_bench.errors import InputError, UnknownNameError  # noqa: E402
-from nav_bench.executors import LocalPool, make_executor  # noqa: E402
-from nav_bench.runner import run_suite  # noqa: E402
-from nav_bench.store import ResultsStore, check_row  # noqa: E402
-from nav_bench.suite import expand, load_suite  # noqa: E402
 from tests.helpers import fake_episodes, tiny  # noqa: E402
 
 
@@ -27,7 +27,7 @@ def test_local_pool_survives_raise_hang_and_death(tmp_path):
                              planners="{seek: goal_seek}", limits="{wall_s: 1.0}")
     jobs = expand(load_suite(suite))
     outcomes = list(LocalPool(2).run(jobs, fake_episodes.seed_dependent))
-    rows = {o.row["seed"]: o.row for o in outcomes}
+    rows = {o.row.seed: o.row.to_json() for o in outcomes}
     assert sorted(rows) == [0, 1, 2, 3, 4]
     for row in rows.values():
         check_row(row)

@@ -15,17 +15,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from nav_bench.batch.store import ResultsWarning
 from nav_bench.errors import InputError
-from nav_bench.report import (
+from nav_bench.reporting.markdown import write_report
+from nav_bench.reporting.runs import load_runs
+from nav_bench.reporting.statistics import (
     bootstrap_mean_interval,
-    load_runs,
     share_reached_within,
     wilson_interval,
-    write_report,
 )
-from nav_bench.store import ResultsWarning
 
-FIXTURE = Path(__file__).resolve().parent / "data" / "results" / "run_a"
+FIXTURE = Path(__file__).resolve().parents[1] / "data" / "results" / "run_a"
 
 
 @pytest.mark.parametrize(("k", "n", "lo", "hi"), [
@@ -178,7 +178,7 @@ def test_report_refuses_folders_without_results(tmp_path):
 
 
 def test_difficulty_thirds_from_measures_in_rows():
-    from nav_bench.report import difficulty_table, world_difficulties
+    from nav_bench.reporting.markdown import difficulty_table, world_difficulties
 
     # six worlds w0..w5 of growing tortuosity; set "a" reaches the goal in w0..w2 only
     rows = [{"world": f"w{i}", "set": s, "success": s == "b" or i < 3, "run": "r",
