@@ -470,5 +470,5 @@ def test_report_refuses_rows_it_cannot_trust_naming_the_line(tmp_path, capsys, c
     change(row)
     lines[2] = json.dumps(row)
     path.write_text("\n".join(lines) + "\n")
-    err = _refused(capsys, ["report", str(run)], f"{path}:3: {needle}")
+    err = _refused(capsys, ["report", str(run)], f"{path}:3: ", needle)
     assert len(err.strip().splitlines()) == 1

@@ -363,7 +363,7 @@ def _run_locked(store: ResultsStore, suite_arg: Any, *, resume: bool, runner: An
                         done_rows.append(_store_outcome(store, outcome))
                     except OSError as exc:  # disk full or gone: stop, say so, stay resumable
                         storage = exc
-                        done_rows[:] = store.rows()
+                        done_rows[:] = store.results()
                         break
                     session["episodes"] += 1
                     bar.update(outcome.row)
