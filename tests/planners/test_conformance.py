@@ -19,7 +19,7 @@ from nav_bench.planners.registry import default_registry, load_planner_set
 
 NAMES = default_registry().names()
 CONFIGS = Path(__file__).resolve().parents[2] / "configs" / "planners"
-BASELINES = ("bug2", "tangent_bug", "dstar_lite", "vfh_plus", "apf")
+BASELINES = ("bug2", "tangent_bug", "dstar_lite", "vfh_plus", "apf", "dwa", "dwa_global")
 
 
 def planner_class(name: str) -> type[Planner]:
