@@ -10,7 +10,6 @@ import math
 
 import numpy as np
 import pytest
-from harness import BoxWorld, run, wall_world
 
 from nav_bench.planners.dwa import (
     DWA,
@@ -20,6 +19,7 @@ from nav_bench.planners.dwa import (
     choose_velocity,
     rollout,
 )
+from nav_bench.testing.harness import BoxWorld, run, wall_world
 
 P = {p.name: p.default for p in DWA_PARAMS}
 
