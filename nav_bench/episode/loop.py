@@ -76,11 +76,13 @@ def play(session: SimSession, world: WorldSpec, robot: RobotSpec, rng: np.random
             if first:
                 agent.reset(obs, planner_rng)
                 first = False
+            t1 = time.perf_counter()
             cmd = checked_act(agent, obs, sim.robot_info, name)  # plan
-            played.plan_s += time.perf_counter() - t0
+            t2 = time.perf_counter()
+            played.plan_s += t2 - t0
             events = [{"kind": e.kind, "t": e.t, "data": e.data} for e in agent.pop_events()]
             played.events += events
-            cycle = Cycle(sim.t, true_pose, obs, cmd, events, agent, sim)
+            cycle = Cycle(sim.t, true_pose, obs, cmd, events, agent, sim, plan_s=t2 - t1)
             for observer in observers:
                 observer.on_cycle(cycle)
             sim.apply(cmd)  # act

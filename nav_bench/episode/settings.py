@@ -22,6 +22,9 @@ class EpisodeSettings:
     # measures navigation and a default-noise robot that stopped "at" the goal is not "stuck".
     goal_tolerance: float = 0.3
     record_trace: bool = True  # keep per-cycle arrays (needed for plots and traces on disk)
+    # m, edge-to-geometry distance under which the row's time_near_obstacles_s counts (MRPB's
+    # safety distance)
+    safety_distance_m: float = 0.3
 
     def __post_init__(self) -> None:
         if self.control_hz <= 0 or self.physics_hz <= 0:
@@ -32,6 +35,8 @@ class EpisodeSettings:
             raise InputError("time_s must be positive")
         if self.goal_tolerance <= 0:
             raise InputError("goal_tolerance must be positive")
+        if self.safety_distance_m < 0:
+            raise InputError("safety_distance_m must not be negative")
 
     def time_limit(self, world: WorldSpec) -> float:
         """The time limit (s) for ``world``."""

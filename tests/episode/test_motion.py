@@ -97,3 +97,27 @@ def test_compute_time_mean_and_p95_skip_cycles_without_a_call() -> None:
     assert mean == pytest.approx(2.0)
     assert p95 == pytest.approx(np.percentile([1.0] * 19 + [21.0], 95))
     assert compute_ms(np.array([math.nan])) == (None, None)
+
+
+def test_every_row_carries_the_motion_metrics_of_its_trace() -> None:
+    from pathlib import Path
+
+    from nav_bench.episode.loop import run_episode
+    from nav_bench.episode.settings import EpisodeSettings
+    from nav_bench.specs import PlannerSetSpec
+    from nav_bench.world.load import load_world
+
+    world = load_world(Path(__file__).resolve().parents[2] / "worlds" / "paper" / "open_room.yaml")
+    result = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=0,
+                         settings=EpisodeSettings(safety_distance_m=0.5))
+    row, trace = result.row, result.trace
+    assert row.success and row.settings["safety_distance_m"] == 0.5
+    # goal_seek drives a straight line in the open room: little turning, the drive's 1 m/s^2 at most
+    assert row.curvature_per_m < 0.02
+    assert 0.0 < row.accel_mean_mps2 < row.accel_max_mps2 <= 1.0 * 1.2
+    assert row.time_near_obstacles_s == 0.0 and row.min_clearance_m > 0.5
+    assert len(trace.plan_s) == len(trace.t) and np.isnan(trace.plan_s[-1])
+    assert row.plan_ms_mean == pytest.approx(1000 * np.nanmean(trace.plan_s))
+    assert row.plan_ms_p95 > 0
+    stored = row.to_json()
+    assert set(stored) >= {"accel_mean_mps2", "jerk_linear", "jerk_angular", "plan_ms_p95"}
