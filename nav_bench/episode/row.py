@@ -17,6 +17,7 @@ import numpy as np
 
 from nav_bench.episode import metrics
 from nav_bench.episode.motion import MOTION_FIELDS, motion_metrics
+from nav_bench.episode.protocol import make_protocol
 from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.episode.trace import Trace
 from nav_bench.interface import Outcome
@@ -63,6 +64,7 @@ class ResultRow:
     time_near_obstacles_s: float | None = None  # edge within settings.safety_distance_m
     plan_ms_mean: float | None = None  # planner compute time per control cycle, ms (wall clock)
     plan_ms_p95: float | None = None  # its 95th percentile, ms (wall clock)
+    barn_score: float | None = None  # under protocol barn: success x OT / clip(AT, 2 OT, 8 OT)
     # set by the batch runner
     job_id: str | None = None  # stable id of (world, parameter set, robot, seed, limits)
     label: str | None = None  # the suite's name for the parameter set, e.g. "eopc_rr[RR=0.4]"
@@ -88,6 +90,9 @@ class ResultRow:
         travelled = polyline_length(xy)
         optimal = metrics.optimal_length(world, robot_radius)
         success = outcome is Outcome.REACHED
+        protocol = make_protocol(settings.get("protocol", "nav_bench"),
+                                 settings.get("protocol_options"))
+        scores = protocol.score(success, optimal, time_s)
         return cls(
             world=world.name, world_file=world_file, planner=planner, params=params,
             params_id=params_id, seed=int(seed), success=success, outcome=outcome,
@@ -98,7 +103,7 @@ class ResultRow:
             wall_s=wall_s, robot=robot, robot_id=robot_id, settings=settings,
             goal_distance_m=float(np.hypot(*(final_true[:2] - np.asarray(world.goal, float)))),
             odometry_error_m=float(np.hypot(*(final_true[:2] - final_odom[:2]))),
-            events=count_events(trace.events), error=error, **motion)
+            events=count_events(trace.events), error=error, **motion, **scores)
 
     @classmethod
     def failure(cls, *, world: str, world_file: str | None, planner: str, params: dict[str, Any],
@@ -156,7 +161,8 @@ def count_events(events: list[dict[str, Any]]) -> dict[str, int]:
 
 
 _MEASURED_AT_THE_END = frozenset({"goal_distance_m", "odometry_error_m"})
-_OMITTED_WHEN_NULL = _MEASURED_AT_THE_END | frozenset(MOTION_FIELDS)  # rows stored before them lack them
+SCORE_FIELDS = ("barn_score",)  # protocols' scores: only rows played under that protocol have one
+_OMITTED_WHEN_NULL = _MEASURED_AT_THE_END | frozenset(MOTION_FIELDS) | frozenset(SCORE_FIELDS)
 _FIELD_NAMES = frozenset(f.name for f in dataclasses.fields(ResultRow)) - {"extra"}
 EPISODE_FIELDS = tuple(f.name for f in dataclasses.fields(ResultRow)
                        if f.name not in {"job_id", "label", "time_limit_s", "trace", "trace_error",
@@ -179,7 +185,8 @@ OUTCOMES = tuple(o.value for o in Outcome)
 # fields measured on the wall clock: two plays of the same episode differ only in these
 WALL_CLOCK_FIELDS = frozenset({"wall_s", "plan_ms_mean", "plan_ms_p95"})
 # optional fields (rows stored before they existed lack them): field -> accepted JSON types
-OPTIONAL_FIELDS: dict[str, tuple[type, ...]] = {name: (float, type(None)) for name in MOTION_FIELDS}  # the words a row's outcome may take, in report order
+OPTIONAL_FIELDS: dict[str, tuple[type, ...]] = {name: (float, type(None))
+                                               for name in (*MOTION_FIELDS, *SCORE_FIELDS)}  # the words a row's outcome may take, in report order
 
 
 def row_problems(row: dict[str, Any]) -> list[str]:

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 from nav_bench.errors import InputError
 from nav_bench.specs import WorldSpec
@@ -25,6 +26,9 @@ class EpisodeSettings:
     # m, edge-to-geometry distance under which the row's time_near_obstacles_s counts (MRPB's
     # safety distance)
     safety_distance_m: float = 0.3
+    # the rules the episode is judged by (nav_bench.episode.protocol): a name and its settings
+    protocol: str = "nav_bench"
+    protocol_options: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.control_hz <= 0 or self.physics_hz <= 0:
@@ -37,6 +41,9 @@ class EpisodeSettings:
             raise InputError("goal_tolerance must be positive")
         if self.safety_distance_m < 0:
             raise InputError("safety_distance_m must not be negative")
+        from nav_bench.episode.protocol import make_protocol  # it builds on these settings
+
+        make_protocol(self.protocol, self.protocol_options)  # unknown names and settings fail here
 
     def time_limit(self, world: WorldSpec) -> float:
         """The time limit (s) for ``world``."""

@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from nav_bench.batch.suite import slug
+from nav_bench.episode.protocol import rules_text
 from nav_bench.episode.row import OUTCOMES
 from nav_bench.errors import InputError
 from nav_bench.reporting import figures as plots
@@ -106,8 +107,15 @@ def _runs_section(runs: Sequence[Run]) -> str:
                      m.get("started", "?"), m.get("host", "?"),
                      f"{executor.get('name', '?')} x{executor.get('workers', '?')}",
                      m.get("nav_bench", "?"), commit or "–"])
-    return _md_table(["run", "suite", "episodes", "status", "started", "host", "executor",
-                      "nav-bench", "commit"], rows)
+    table = _md_table(["run", "suite", "episodes", "status", "started", "host", "executor",
+                       "nav-bench", "commit"], rows)
+    rules = []
+    for run in runs:
+        stored = (run.meta.get("suite") or {}).get("protocol")
+        text = (rules_text(stored) if stored else
+                "protocol `nav_bench` (run stored before protocols were recorded in run.json)")
+        rules.append(f"* {run.name}: {text}" if len(runs) > 1 else text)
+    return table + "\n\nRules: " + ("\n".join(rules) if len(runs) == 1 else "\n\n" + "\n".join(rules))
 
 
 # --------------------------------------------------------------------------- the report
