@@ -176,9 +176,9 @@ def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,
         return EpisodeResult(row=row, trace=trace, timing={"total": wall})
     sim_t, true_end, odom_end, collisions, timing_sim, radius = final
     trace = recorder.finish(sim_t, true_end, odom_end, played.events, state)
-    replans = getattr(agent, "replans", sum(e["kind"] == "replan" for e in played.events))
     row = ResultRow.from_trace(trace, outcome=played.outcome, error=played.error, robot=robot.name,
-                               robot_id=rid, time_s=sim_t, robot_radius=radius, replans=replans,
+                               robot_id=rid, time_s=sim_t, robot_radius=radius,
+                               replans=agent.replans,
                                collisions=collisions, wall_s=wall, **identity)
     trace.row = row.to_json()
     timing = {**timing_sim, "planning": played.plan_s,

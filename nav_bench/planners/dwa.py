@@ -58,7 +58,7 @@ from typing import Any, ClassVar
 import numpy as np
 from scipy.spatial import cKDTree
 
-from nav_bench.interface import Command, Observation
+from nav_bench.interface import Command, GridState, Observation
 from nav_bench.mapping.occupancy import OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.dstar_lite import DStarLite
@@ -125,49 +125,50 @@ def arc_clearances(arcs: np.ndarray, points: np.ndarray, radius: float) -> np.nd
 
 
 def choose_velocity(pose: np.ndarray, goal: np.ndarray, v_now: float, omega_now: float,
-                    points: np.ndarray, radius: float, dt: float, p: dict[str, Any],
+                    points: np.ndarray, radius: float, dt: float, p: Any,
                     v_max: float, omega_max: float, v_cap: float = math.inf) -> Choice:
     """One DWA decision (see the module docstring): the best admissible (v, omega).
 
     Args:
         pose: (3,) x, y, yaw. goal: (2,) the point to head for. v_now, omega_now: current velocity.
         points: (M, 2) obstacle points, world frame. radius: robot radius, m. dt: control period, s.
-        p: the DWA parameters (:data:`DWA_PARAMS`). v_max, omega_max: the limits to use.
+        p: the planner's settings (``DWA.Settings``; any object with the :data:`DWA_PARAMS` as
+            attributes). v_max, omega_max: the limits to use.
         v_cap: an extra cap on v (the braking distance to the goal).
     """
-    v_lo, v_hi = max(0.0, v_now - p["acc_v"] * dt), min(v_max, v_now + p["acc_v"] * dt)
+    v_lo, v_hi = max(0.0, v_now - p.acc_v * dt), min(v_max, v_now + p.acc_v * dt)
     if v_lo > v_hi:  # the limit dropped below the current speed: brake as hard as allowed
-        v_lo = v_hi = max(0.0, min(v_max, v_now - p["acc_v"] * dt))
-    w_lo = max(-omega_max, omega_now - p["acc_omega"] * dt)
-    w_hi = min(omega_max, omega_now + p["acc_omega"] * dt)
+        v_lo = v_hi = max(0.0, min(v_max, v_now - p.acc_v * dt))
+    w_lo = max(-omega_max, omega_now - p.acc_omega * dt)
+    w_hi = min(omega_max, omega_now + p.acc_omega * dt)
     if w_lo > w_hi:
         w_lo = w_hi = min(omega_max, max(-omega_max, omega_now))
-    vs = np.linspace(v_lo, v_hi, p["v_samples"])
-    ws = np.linspace(w_lo, w_hi, p["omega_samples"])
+    vs = np.linspace(v_lo, v_hi, p.v_samples)
+    ws = np.linspace(w_lo, w_hi, p.omega_samples)
     if w_lo < 0.0 < w_hi:  # going straight is always a candidate when the window holds it
         ws = np.unique(np.append(ws, 0.0))
     vv, ww = (a.ravel() for a in np.meshgrid(vs, ws, indexing="ij"))
-    steps = max(1, round(p["sim_time"] / p["sim_step"]))
-    arcs = rollout(pose, vv, ww, steps, p["sim_step"])
+    steps = max(1, round(p.sim_time / p.sim_step))
+    arcs = rollout(pose, vv, ww, steps, p.sim_step)
     clear = arc_clearances(arcs, points, radius)
     # already closer than min_clearance (sensing noise, a grid cell's centre): moving away stays
     # admissible, only coming closer still is a collision
     now = float(arc_clearances(np.asarray(pose, dtype=float)[None, None, :], points, radius)[0, 0])
-    hit = clear < min(p["min_clearance"], now - 1e-6)
+    hit = clear < min(p.min_clearance, now - 1e-6)
     first = np.where(hit.any(axis=1), hit.argmax(axis=1), steps)  # index of the first colliding pose
-    dist = np.where(first < steps, vv * p["sim_step"] * first, math.inf)  # arc length before it
+    dist = np.where(first < steps, vv * p.sim_step * first, math.inf)  # arc length before it
     # FBT's v <= sqrt(2 dist a_v), with the control period the chosen velocity is held first:
     # v dt + v^2 / (2 a_v) <= dist
-    admissible = (vv * dt + vv * vv / (2.0 * p["acc_v"]) <= dist + 1e-12) | (vv <= 1e-9)
+    admissible = (vv * dt + vv * vv / (2.0 * p.acc_v) <= dist + 1e-12) | (vv <= 1e-9)
     admissible &= vv <= v_cap + 1e-9
     end = arcs[:, -1, :]
     bearing = np.arctan2(goal[1] - end[:, 1], goal[0] - end[:, 0])
     err = np.abs(np.remainder(bearing - end[:, 2] + math.pi, 2 * math.pi) - math.pi)
     heading = 1.0 - err / math.pi
-    cap = p["clearance_cap"]
+    cap = p.clearance_cap
     clearance = np.clip(clear.min(axis=1), 0.0, cap) / cap
     velocity = vv / max(v_max, 1e-9)
-    score = p["k_heading"] * heading + p["k_clearance"] * clearance + p["k_velocity"] * velocity
+    score = p.k_heading * heading + p.k_clearance * clearance + p.k_velocity * velocity
     moving = admissible & (vv > 1e-9)
     if not admissible.any():  # the window holds no stop (moving too fast): brake, keep clear
         score = np.where(vv <= vv.min() + 1e-12, clear.min(axis=1), -math.inf)
@@ -191,15 +192,15 @@ class DWA(Planner):
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
-        self.memory = EchoMemory(self.p["memory_s"])
-        self.grid: OccupancyGrid | None = (OccupancyGrid(obs.bounds, cell=self.p["cell"])
+        self.memory = EchoMemory(self.settings.memory_s)
+        self.grid: OccupancyGrid | None = (OccupancyGrid(obs.bounds, cell=self.settings.cell)
                                            if self._wants_grid() else None)
         self.last = Command(0.0, 0.0)
         self.local_goal = np.asarray(obs.goal, dtype=float).copy()
         self.blocked = 0  # 0, or the side (+1 left, -1 right) turned to while blocked
 
     def _wants_grid(self) -> bool:
-        return bool(self.p["use_grid"])
+        return bool(self.settings.use_grid)
 
     # -- sensing -------------------------------------------------------------------------------
     def _sense(self, obs: Observation) -> None:
@@ -209,11 +210,11 @@ class DWA(Planner):
 
     def obstacle_points(self, obs: Observation) -> np.ndarray:
         """(M, 2) obstacle points within reach of this cycle's roll-outs, world frame, m."""
-        p, xy = self.p, np.asarray(obs.pose[:2], dtype=float)
-        reach = min(p["v_max"], obs.robot.v_max) * p["sim_time"] + obs.robot.radius + p["clearance_cap"]
+        p, xy = self.settings, np.asarray(obs.pose[:2], dtype=float)
+        reach = min(p.v_max, obs.robot.v_max) * p.sim_time + obs.robot.radius + p.clearance_cap
         pts = self.memory.points(xy, reach)
         if self.grid is not None:
-            pts = np.concatenate([pts, occupied_points(self.grid, xy, reach, p["occupied_above"])])
+            pts = np.concatenate([pts, occupied_points(self.grid, xy, reach, p.occupied_above)])
         return pts
 
     # -- one cycle -------------------------------------------------------------------------------
@@ -227,16 +228,16 @@ class DWA(Planner):
     def _target(self, obs: Observation) -> np.ndarray | None:
         """The point DWA heads for this cycle (the goal); None = stop."""
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
-        if math.hypot(*(goal - xy)) < self.p["goal_tolerance"]:
+        if math.hypot(*(goal - xy)) < self.settings.goal_tolerance:
             return None
         return goal
 
     def _drive(self, obs: Observation, target: np.ndarray) -> Command:
-        p, robot = self.p, obs.robot
+        p, robot = self.settings, obs.robot
         self.local_goal = target
-        v_max, w_max = min(p["v_max"], robot.v_max), min(p["omega_max"], robot.omega_max)
+        v_max, w_max = min(p.v_max, robot.v_max), min(p.omega_max, robot.omega_max)
         d_goal = float(np.hypot(*(np.asarray(obs.goal, dtype=float) - obs.pose[:2])))
-        v_cap = max(0.05, math.sqrt(2.0 * d_goal * p["acc_v"]))
+        v_cap = max(0.05, math.sqrt(2.0 * d_goal * p.acc_v))
         choice = choose_velocity(obs.pose, target, self.last.v, self.last.omega,
                                  self.obstacle_points(obs), robot.radius, obs.dt, p, v_max, w_max,
                                  v_cap=v_cap)
@@ -247,7 +248,7 @@ class DWA(Planner):
         if not self.blocked:  # just blocked: pick the side to turn to, and keep it
             self.emit("blocked", obs.t)
             self.blocked = self._freer_side(obs)
-        turn = min(w_max, abs(self.last.omega) + self.p["acc_omega"] * obs.dt)
+        turn = min(w_max, abs(self.last.omega) + self.settings.acc_omega * obs.dt)
         return self._command(Command(0.0, self.blocked * turn))
 
     def _freer_side(self, obs: Observation) -> int:
@@ -269,8 +270,8 @@ class DWA(Planner):
             return {}
         state: dict[str, Any] = {"memory": self.memory.points(), "target": self.local_goal.copy()}
         if self.grid is not None:
-            state.update({"pmo": self.grid.values(), "bounds": list(self.grid.bounds),
-                          "cell": self.grid.cell})
+            state.update(GridState(pmo=self.grid.values(), bounds=self.grid.bounds,
+                                   cell=self.grid.cell).state())
         return state
 
 
@@ -306,7 +307,7 @@ class DWAGlobal(DStarLite, DWA):
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         DStarLite.reset(self, obs, rng)  # the grid, the search and the first path
-        self.memory = EchoMemory(self.p["memory_s"])
+        self.memory = EchoMemory(self.settings.memory_s)
         self.last = Command(0.0, 0.0)
         self.local_goal = np.asarray(obs.goal, dtype=float).copy()
         self.blocked = 0  # 0, or the side (+1 left, -1 right) turned to while blocked
@@ -332,7 +333,7 @@ class DWAGlobal(DStarLite, DWA):
             return None
         xy, path = np.asarray(obs.pose[:2], dtype=float), self.path_xy
         d = np.hypot(path[:, 0] - xy[0], path[:, 1] - xy[1])
-        far = np.nonzero(d >= self.p["lookahead"])[0]
+        far = np.nonzero(d >= self.settings.lookahead)[0]
         return path[far[0]].copy() if len(far) else path[-1].copy()
 
     def debug_state(self) -> dict[str, Any]:

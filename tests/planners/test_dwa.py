@@ -13,7 +13,6 @@ import pytest
 
 from nav_bench.planners.dwa import (
     DWA,
-    DWA_PARAMS,
     DWAGlobal,
     arc_clearances,
     choose_velocity,
@@ -21,7 +20,7 @@ from nav_bench.planners.dwa import (
 )
 from nav_bench.testing.harness import BoxWorld, run, wall_world
 
-P = {p.name: p.default for p in DWA_PARAMS}
+P = DWA().settings  # the defaults, as the planner reads them
 
 
 def test_rollout_follows_straight_lines_and_circles() -> None:
@@ -44,11 +43,11 @@ def test_clearance_is_measured_from_the_robot_edge() -> None:
 def test_the_window_limits_acceleration_and_free_space_takes_its_top() -> None:
     pose, goal = np.zeros(3), np.array([5.0, 0.0])
     c = choose_velocity(pose, goal, 0.2, 0.0, np.zeros((0, 2)), 0.2, 0.1, P, 0.5, 1.0)
-    assert c.v == pytest.approx(0.2 + P["acc_v"] * 0.1) and c.omega == 0.0  # straight at the goal
+    assert c.v == pytest.approx(0.2 + P.acc_v * 0.1) and c.omega == 0.0  # straight at the goal
     c = choose_velocity(pose, goal, 0.5, 0.0, np.zeros((0, 2)), 0.2, 0.1, P, 0.5, 1.0)
     assert c.v == pytest.approx(0.5)  # never above v_max
     c = choose_velocity(pose, np.array([0.0, 5.0]), 0.0, 0.0, np.zeros((0, 2)), 0.2, 0.1, P, 0.5, 1.0)
-    assert c.omega == pytest.approx(P["acc_omega"] * 0.1)  # turns toward a goal on the left, as fast as allowed
+    assert c.omega == pytest.approx(P.acc_omega * 0.1)  # turns toward a goal on the left, as fast as allowed
 
 
 def test_only_velocities_that_can_stop_in_time_are_admissible() -> None:
@@ -57,7 +56,7 @@ def test_only_velocities_that_can_stop_in_time_are_admissible() -> None:
     wall = np.stack([np.full(41, 0.45), np.linspace(-2.0, 2.0, 41)], axis=1)
     c = choose_velocity(np.zeros(3), np.array([5.0, 0.0]), 0.4, 0.0, wall, 0.2, 0.1, P, 0.5, 1.0)
     assert c.v < 0.4  # it slows down
-    assert 0.1 * c.v + c.v ** 2 / (2 * P["acc_v"]) <= 0.20 + 0.02  # and can still stop before the line
+    assert 0.1 * c.v + c.v ** 2 / (2 * P.acc_v) <= 0.20 + 0.02  # and can still stop before the line
     far = wall + np.array([2.0, 0.0])
     c = choose_velocity(np.zeros(3), np.array([5.0, 0.0]), 0.4, 0.0, far, 0.2, 0.1, P, 0.5, 1.0)
     assert c.v == pytest.approx(0.45)

@@ -51,6 +51,8 @@ from nav_bench.world.generate.common import (
     write_world_yaml,
 )
 from nav_bench.world.generate.movers import add_movers, place_movers
+from nav_bench.world.load import world_from_data
+from nav_bench.world.optimal import optimal_path
 
 __all__ = [
     "GeneratorInfo",
@@ -97,9 +99,6 @@ def generate_world(kind: str, seed: int = 0, settings: dict[str, Any] | None = N
         raise InputError(f"generator seed must be a whole number >= 0, got {seed!r}")
     seed = int(seed)
     s = resolve_settings(info, settings)
-
-    from nav_bench.world.load import world_from_data
-    from nav_bench.world.optimal import optimal_path
 
     reason = ""
     for attempt in range(s["max_attempts"]):
