@@ -2,7 +2,7 @@
 
 Every generator turns ``(seed, settings)`` into plain world data that validates with
 :func:`nav_bench.world.load.world_from_data`, and **guarantees the goal is reachable** for a disc
-robot of radius ``robot_radius`` (default 0.18 m): each layout is checked with
+robot of radius ``robot_radius`` (default: the default robot's, from its URDF): each layout is checked with
 :func:`nav_bench.world.optimal.optimal_path` on the true map, and rejected layouts are redrawn
 with derived seeds (attempt 1, 2, ...). ``meta.generator`` records the kind, the seed, the
 attempt and derived seed actually used, and every setting (defaults included), so a file
