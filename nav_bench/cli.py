@@ -103,7 +103,11 @@ def cmd_episode(args: argparse.Namespace) -> int:
     world = load_world(args.world)
     planner = parse_planner_arg(args.planner)
     robot = load_robot(args.robot) if args.robot else load_robot()
-    settings = EpisodeSettings(time_s=args.time_limit)
+    from nav_bench.episode.protocol import make_protocol
+
+    if args.time_limit is not None and make_protocol(args.protocol).time_limit_s is not None:
+        raise InputError(f"protocol {args.protocol!r} sets the time limit itself; drop --time-limit")
+    settings = EpisodeSettings(time_s=args.time_limit, protocol=args.protocol)
     if args.no_stuck:
         settings = dataclasses.replace(settings, stuck_s=None)
     live = None
@@ -127,7 +131,8 @@ def cmd_episode(args: argparse.Namespace) -> int:
               f"{_fmt(row.time_s, 1)} s simulated ({row.wall_s:.2f} s wall), path "
               f"{_fmt(row.path_length_m)} m (optimal {_fmt(row.optimal_length_m)} m), "
               f"SPL {row.spl:.3f}, re-plans {row.replans}, collisions {row.collisions}, "
-              f"min clearance {_fmt(row.min_clearance_m, 3)} m")
+              f"min clearance {_fmt(row.min_clearance_m, 3)} m"
+              + (f", barn_score {_fmt(row.barn_score, 3)}" if row.barn_score is not None else ""))
         if row.error:
             print(row.error, file=sys.stderr)
         if args.plot:
@@ -277,6 +282,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--robot", help="robot config YAML (default: robots/diffbot.yaml)")
     p.add_argument("--time-limit", type=_positive, help="simulated seconds (default: scales with world size)")
     p.add_argument("--no-stuck", action="store_true", help="do not end the episode when the robot stalls")
+    p.add_argument("--protocol", default="nav_bench",
+                   help="the rules the episode is judged by: nav_bench (default) or barn "
+                        "(1 m goal radius, 100 s, a collision ends it, barn_score)")
     p.add_argument("--plot", help="write a PNG of the map, trajectory and planner state")
     p.add_argument("--trace", help="write the trace (.npz) for replotting")
     p.add_argument("--json", action="store_true", help="print exactly one result row (JSON) on stdout")

@@ -23,6 +23,7 @@ class Outcome(str, Enum):
     REACHED = "reached"  # the robot's true position came within the goal tolerance
     TIMEOUT = "timeout"  # the simulated time limit passed
     STUCK = "stuck"  # the robot stayed within a small circle for too long
+    COLLISION = "collision"  # the robot touched something under a protocol where that ends it (barn)
     ERROR = "error"  # the planner or the simulation failed; the row carries the traceback
 
     def __str__(self) -> str:

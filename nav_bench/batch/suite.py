@@ -20,6 +20,7 @@ A suite with every kind of entry::
     limits: {time_s: 300, stuck_s: 30, goal_tolerance: 0.2, control_hz: 10,
              physics_hz: 240, wall_s: 900}  # wall_s: wall-clock s before a hung episode is killed
     robot: {file: robots/diffbot.yaml, sonar: {noise_std: [0.0, 0.02]}}   # two robot variants
+    protocol: nav_bench                   # or barn, or {name: barn, time_limit_s: 200}
 
 Sweeps: a list where a single value is expected (a planner parameter, a robot setting) plays
 one set per value; several lists play their grid product. Labels say which value is which:
@@ -47,6 +48,7 @@ from typing import Annotated, Any
 
 from pydantic import Field, PositiveFloat
 
+from nav_bench.episode.protocol import PROTOCOLS, make_protocol, protocol_of
 from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.errors import InputError, SpecError, SpecErrors, UnknownNameError, format_key_path
 from nav_bench.ids import params_id, robot_id, stable_id
@@ -115,6 +117,7 @@ class SuiteFile(Strict):
     seeds: Any = 1
     limits: Limits = Limits()
     robot: Any = None
+    protocol: Any = "nav_bench"  # a protocol name, or {name: NAME, <setting>: value, ...}
 
 
 # --------------------------------------------------------------------------- expanded suite
@@ -401,7 +404,7 @@ def suite_from_data(data: Any, *, file: str | None = None, index: LineIndex | No
         seeds = parse_seeds(top.seeds)
     except ValueError as exc:
         raise _err(str(exc), file, index, ("seeds",)) from None
-    settings, wall_s = _settings(top.limits, file, index)
+    settings, wall_s = _settings(top.limits, top.protocol, file, index)
     worlds = _worlds(top.worlds, resolver, file, index)
     _check_goal_distances(worlds, settings["goal_tolerance"], file, index)
     planners = _planners(top.planners, resolver, file, index)
@@ -415,15 +418,45 @@ def suite_from_data(data: Any, *, file: str | None = None, index: LineIndex | No
                  seeds=tuple(seeds), settings=settings, wall_s=wall_s)
 
 
-def _settings(limits: Limits, file: str | None, index: LineIndex | None) -> tuple[dict[str, Any],
-                                                                                  float | None]:
+def _settings(limits: Limits, protocol: Any, file: str | None,
+              index: LineIndex | None) -> tuple[dict[str, Any], float | None]:
     given = limits.model_dump(exclude_unset=True)
     wall_s = given.pop("wall_s", DEFAULT_WALL_S)
+    given.update(_protocol(protocol, given, file, index))
     try:
         settings = EpisodeSettings(**given)
     except InputError as exc:
         raise _err(str(exc), file, index, ("limits",)) from None
     return asdict(settings), wall_s
+
+
+def _protocol(entry: Any, limits: dict[str, Any], file: str | None,
+              index: LineIndex | None) -> dict[str, Any]:
+    """``protocol`` and ``protocol_options`` of the episode settings from the suite's
+    ``protocol:`` entry; unknown names and settings are refused with the allowed ones, and so
+    are limits that contradict the protocol's own rules."""
+    if isinstance(entry, str):
+        name, options, loc = entry, {}, ("protocol",)
+    elif isinstance(entry, dict) and isinstance(entry.get("name"), str):
+        name = entry["name"]
+        options = {k: v for k, v in entry.items() if k != "name"}
+        loc = ("protocol", next(iter(options))) if options else ("protocol",)
+    else:
+        raise _err(f"expected a protocol name ({', '.join(PROTOCOLS)}) or {{name: NAME, setting: "
+                   f"value}}, got {entry!r}", file, index, ("protocol",))
+    try:
+        rules = make_protocol(name, options)
+    except InputError as exc:
+        bad = next((k for k in options if k in str(exc)), None)
+        where = ("protocol", bad) if bad else (("protocol", "name") if isinstance(entry, dict) else loc)
+        raise _err(str(exc), file, index, where) from None
+    fixed = {"goal_tolerance": rules.goal_radius_m, "time_s": rules.time_limit_s}
+    for key, value in fixed.items():
+        if value is not None and key in limits:
+            setting = "goal_radius_m" if key == "goal_tolerance" else "time_limit_s"
+            raise _err(f"protocol {name!r} sets this itself ({value:g}); change it with "
+                       f"protocol: {{name: {name}, {setting}: ...}}", file, index, ("limits", key))
+    return {"protocol": name, "protocol_options": options}
 
 
 def _worlds(entries: list[Any], resolver: _Resolver, file: str | None,
@@ -688,5 +721,6 @@ def describe(suite: Suite) -> dict[str, Any]:
                              "spec": r.spec.model_dump(mode="json")} for r in suite.robots},
         "seeds": list(suite.seeds),
         "settings": suite.settings,
+        "protocol": protocol_of(settings := EpisodeSettings(**suite.settings)).rules(settings),
         "wall_s": suite.wall_s,
     }

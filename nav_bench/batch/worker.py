@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Any
 
 from nav_bench.batch.suite import EpisodeJob
 from nav_bench.episode import EpisodeSettings, ResultRow
+from nav_bench.episode.protocol import protocol_of
 from nav_bench.errors import NavBenchError
 
 if TYPE_CHECKING:  # imported for real in the workers only: PyBullet prints a banner at import
@@ -92,7 +93,8 @@ def finish_row(row: ResultRow, job: EpisodeJob) -> ResultRow:
         row, job_id=job.job_id, label=job.label, world_file=job.world_file,
         robot=job.robot_label,  # the variant label ("diffbot[sonar.noise_std=0.02]")
         robot_id=row.robot_id or job.robot_id,
-        time_limit_s=float(EpisodeSettings(**job.settings).time_limit(job.world)))
+        time_limit_s=float(protocol_of(settings := EpisodeSettings(**job.settings))
+                           .time_limit(settings, job.world)))
 
 
 def execute_job(job: EpisodeJob, episode_fn: EpisodeFn,

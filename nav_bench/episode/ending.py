@@ -2,19 +2,18 @@
 
 Each ending is called with the simulated time (s) and the robot's true position (m) and says
 whether the episode ends now; its ``outcome`` names the end. A new end condition is one more
-class with ``outcome`` and ``__call__``, added to :func:`endings`.
+class with ``outcome`` and ``__call__``; which endings an episode has, and their values, is its
+protocol's choice (:meth:`nav_bench.episode.protocol.Protocol.endings`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Protocol
 
 import numpy as np
 
-from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.interface import Outcome
-from nav_bench.specs import WorldSpec
 
 
 class Ending(Protocol):
@@ -63,13 +62,16 @@ class Stuck:
         return t - self.since >= self.seconds
 
 
-def endings(settings: EpisodeSettings, world: WorldSpec, start_xy: np.ndarray) -> list[Ending]:
-    """The end conditions of an episode of ``world``, in the order they are checked."""
-    out: list[Ending] = [GoalReached(np.asarray(world.goal, dtype=float), settings.goal_tolerance),
-                         TimeLimit(settings.time_limit(world))]
-    if settings.stuck_s is not None:
-        out.append(Stuck(settings.stuck_s, settings.stuck_radius, start_xy))
-    return out
+class Collided:
+    """The robot touched something: ``collisions()`` counts its distinct contacts so far."""
+
+    outcome = Outcome.COLLISION
+
+    def __init__(self, collisions: Callable[[], int]) -> None:
+        self.collisions = collisions
+
+    def __call__(self, t: float, xy: np.ndarray) -> bool:
+        return self.collisions() > 0
 
 
 def first_ending(checks: Sequence[Ending], t: float, xy: np.ndarray) -> Outcome | None:

@@ -16,8 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from nav_bench.episode.ending import endings, first_ending
+from nav_bench.episode.ending import first_ending
 from nav_bench.episode.observers import Cycle, GuiView, LiveFeed, Observer
+from nav_bench.episode.protocol import protocol_of
 from nav_bench.episode.row import ResultRow
 from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.episode.trace import Trace, TraceRecorder
@@ -61,7 +62,8 @@ def play(session: SimSession, world: WorldSpec, robot: RobotSpec, rng: np.random
         sim = played.sim = Simulation(session, world, robot, rng, physics_hz=settings.physics_hz)
         goal = np.asarray(world.goal, dtype=float)
         bounds = (0.0, 0.0, float(world.size[0]), float(world.size[1]))
-        checks = endings(settings, world, sim.true_pose()[:2].copy())
+        checks = protocol_of(settings).endings(settings, world, sim.true_pose()[:2].copy(),
+                                               collisions=lambda: sim.collisions)
         first = True
         while True:
             true_pose = sim.true_pose()
@@ -76,11 +78,13 @@ def play(session: SimSession, world: WorldSpec, robot: RobotSpec, rng: np.random
             if first:
                 agent.reset(obs, planner_rng)
                 first = False
+            t1 = time.perf_counter()
             cmd = checked_act(agent, obs, sim.robot_info, name)  # plan
-            played.plan_s += time.perf_counter() - t0
+            t2 = time.perf_counter()
+            played.plan_s += t2 - t0
             events = [{"kind": e.kind, "t": e.t, "data": e.data} for e in agent.pop_events()]
             played.events += events
-            cycle = Cycle(sim.t, true_pose, obs, cmd, events, agent, sim)
+            cycle = Cycle(sim.t, true_pose, obs, cmd, events, agent, sim, plan_s=t2 - t1)
             for observer in observers:
                 observer.on_cycle(cycle)
             sim.apply(cmd)  # act

@@ -18,16 +18,23 @@ def spl(success: bool, optimal_m: float | None, travelled_m: float) -> float:
     return float(optimal_m / max(optimal_m, travelled_m, 1e-9))
 
 
-def min_clearance(world: WorldSpec, xy: np.ndarray, robot_radius: float,
-                  mover_xy: np.ndarray | None = None) -> float:
-    """Smallest gap (m) between the robot's edge and true geometry along (T, 2) positions
+def clearances(world: WorldSpec, xy: np.ndarray, robot_radius: float,
+               mover_xy: np.ndarray | None = None) -> np.ndarray:
+    """(T,) gap (m) between the robot's edge and true geometry at each of (T, 2) positions
     (:func:`footprint_clearance`; movers at ``mover_xy`` (T, M, 2)). Negative means overlap."""
     xy = np.asarray(xy, dtype=float).reshape(-1, 2)
     if len(xy) == 0:
-        return float("nan")
+        return np.zeros(0)
     radii = np.array([mover_radius(m) for m in world.movers], dtype=float)
-    return float(footprint_clearance(static_geometry(world), xy, robot_radius, radii,
-                                     mover_xy).min())
+    return np.asarray(footprint_clearance(static_geometry(world), xy, robot_radius, radii, mover_xy),
+                      dtype=float)
+
+
+def min_clearance(world: WorldSpec, xy: np.ndarray, robot_radius: float,
+                  mover_xy: np.ndarray | None = None) -> float:
+    """Smallest of :func:`clearances` (m); NaN without positions."""
+    gaps = clearances(world, xy, robot_radius, mover_xy)
+    return float(gaps.min()) if len(gaps) else float("nan")
 
 
 @lru_cache(maxsize=64)

@@ -7,6 +7,7 @@ what the robot does.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from typing import Any, Protocol
@@ -30,6 +31,7 @@ class Cycle:
     events: list[dict[str, Any]]
     planner: Planner
     sim: Any
+    plan_s: float = math.nan  # wall-clock seconds the planner's act() took this cycle
 
 
 class Observer(Protocol):

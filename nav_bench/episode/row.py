@@ -16,6 +16,9 @@ from typing import Any
 import numpy as np
 
 from nav_bench.episode import metrics
+from nav_bench.episode.motion import MOTION_FIELDS, motion_metrics
+from nav_bench.episode.protocol import make_protocol
+from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.episode.trace import Trace
 from nav_bench.interface import Outcome
 from nav_bench.world.geometry import polyline_length
@@ -52,6 +55,16 @@ class ResultRow:
     odometry_error_m: float | None = None  # true vs odometry position at the end
     events: dict[str, int] = field(default_factory=dict)  # planner events: count per kind
     error: str | None = None  # traceback text for outcome "error", else null
+    # how the robot moved (nav_bench.episode.motion; null when the trace is too short)
+    accel_mean_mps2: float | None = None  # mean |linear acceleration|
+    accel_max_mps2: float | None = None  # largest |linear acceleration|
+    jerk_linear: float | None = None  # integral of squared linear jerk, m^2/s^5
+    jerk_angular: float | None = None  # integral of squared angular jerk, rad^2/s^5
+    curvature_per_m: float | None = None  # angle over length, rad/m
+    time_near_obstacles_s: float | None = None  # edge within settings.safety_distance_m
+    plan_ms_mean: float | None = None  # planner compute time per control cycle, ms (wall clock)
+    plan_ms_p95: float | None = None  # its 95th percentile, ms (wall clock)
+    barn_score: float | None = None  # under protocol barn: success x OT / clip(AT, 2 OT, 8 OT)
     # set by the batch runner
     job_id: str | None = None  # stable id of (world, parameter set, robot, seed, limits)
     label: str | None = None  # the suite's name for the parameter set, e.g. "eopc_rr[RR=0.4]"
@@ -69,21 +82,28 @@ class ResultRow:
         """The row of a played episode: its numbers measured on ``trace``."""
         world = trace.world
         xy = trace.true_pose[:, :2]
+        gaps = metrics.clearances(world, xy, robot_radius, trace.movers)
+        safety = float(settings.get("safety_distance_m", EpisodeSettings.safety_distance_m))
+        plan_s = trace.plan_s if len(trace.plan_s) else np.full(len(trace.t), np.nan)
+        motion = motion_metrics(trace.t, trace.true_pose, gaps, plan_s, safety)
         final_true, final_odom = trace.true_pose[-1], trace.odom_pose[-1]
         travelled = polyline_length(xy)
         optimal = metrics.optimal_length(world, robot_radius)
         success = outcome is Outcome.REACHED
+        protocol = make_protocol(settings.get("protocol", "nav_bench"),
+                                 settings.get("protocol_options"))
+        scores = protocol.score(success, optimal, time_s)
         return cls(
             world=world.name, world_file=world_file, planner=planner, params=params,
             params_id=params_id, seed=int(seed), success=success, outcome=outcome,
             time_s=round(float(time_s), 6), path_length_m=travelled, optimal_length_m=optimal,
             spl=metrics.spl(success, optimal, travelled), replans=int(replans),
             collisions=int(collisions),
-            min_clearance_m=metrics.min_clearance(world, xy, robot_radius, trace.movers),
+            min_clearance_m=float(gaps.min()) if len(gaps) else float("nan"),
             wall_s=wall_s, robot=robot, robot_id=robot_id, settings=settings,
             goal_distance_m=float(np.hypot(*(final_true[:2] - np.asarray(world.goal, float)))),
             odometry_error_m=float(np.hypot(*(final_true[:2] - final_odom[:2]))),
-            events=count_events(trace.events), error=error)
+            events=count_events(trace.events), error=error, **motion, **scores)
 
     @classmethod
     def failure(cls, *, world: str, world_file: str | None, planner: str, params: dict[str, Any],
@@ -104,8 +124,8 @@ class ResultRow:
             out["job_id"], out["label"] = self.job_id, self.label
         for name in EPISODE_FIELDS:
             value = getattr(self, name)
-            if value is None and name in _MEASURED_AT_THE_END:
-                continue  # an episode that never finished has no final pose
+            if value is None and name in _OMITTED_WHEN_NULL:
+                continue  # an episode that never finished has no final pose, a short one no motion
             out[name] = value.value if isinstance(value, Outcome) else value
         if self.time_limit_s is not None:
             out["time_limit_s"] = self.time_limit_s
@@ -141,6 +161,8 @@ def count_events(events: list[dict[str, Any]]) -> dict[str, int]:
 
 
 _MEASURED_AT_THE_END = frozenset({"goal_distance_m", "odometry_error_m"})
+SCORE_FIELDS = ("barn_score",)  # protocols' scores: only rows played under that protocol have one
+_OMITTED_WHEN_NULL = _MEASURED_AT_THE_END | frozenset(MOTION_FIELDS) | frozenset(SCORE_FIELDS)
 _FIELD_NAMES = frozenset(f.name for f in dataclasses.fields(ResultRow)) - {"extra"}
 EPISODE_FIELDS = tuple(f.name for f in dataclasses.fields(ResultRow)
                        if f.name not in {"job_id", "label", "time_limit_s", "trace", "trace_error",
@@ -159,7 +181,12 @@ ROW_FIELDS: dict[str, tuple[type, ...]] = {
 
 # Measured quantities an ``error`` row may leave null: the episode never finished.
 ERROR_NULLABLE = frozenset({"time_s", "path_length_m", "replans", "collisions", "min_clearance_m"})
-OUTCOMES = tuple(o.value for o in Outcome)  # the words a row's outcome may take, in report order
+OUTCOMES = tuple(o.value for o in Outcome)
+# fields measured on the wall clock: two plays of the same episode differ only in these
+WALL_CLOCK_FIELDS = frozenset({"wall_s", "plan_ms_mean", "plan_ms_p95"})
+# optional fields (rows stored before they existed lack them): field -> accepted JSON types
+OPTIONAL_FIELDS: dict[str, tuple[type, ...]] = {name: (float, type(None))
+                                               for name in (*MOTION_FIELDS, *SCORE_FIELDS)}  # the words a row's outcome may take, in report order
 
 
 def row_problems(row: dict[str, Any]) -> list[str]:
@@ -178,6 +205,10 @@ def row_problems(row: dict[str, Any]) -> list[str]:
         if not isinstance(value, accepted) or (isinstance(value, bool) and bool not in types):
             expected = " or ".join("null" if t is type(None) else t.__name__ for t in types)
             problems.append(f"field {name!r} should be {expected}, got {value!r:.60}")
+    for name, types in OPTIONAL_FIELDS.items():
+        value = row.get(name)
+        if value is not None and (isinstance(value, bool) or not isinstance(value, (*types, int))):
+            problems.append(f"field {name!r} should be a number or null, got {value!r:.60}")
     if not problems:
         if row["outcome"] not in OUTCOMES:
             problems.append(f"outcome {row['outcome']!r} is not one of {', '.join(OUTCOMES)}")

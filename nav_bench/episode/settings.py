@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 from nav_bench.errors import InputError
 from nav_bench.specs import GOAL_TOLERANCE_M, WorldSpec
@@ -23,10 +24,16 @@ class EpisodeSettings:
     # measures navigation and a default-noise robot that stopped "at" the goal is not "stuck".
     goal_tolerance: float = GOAL_TOLERANCE_M
     record_trace: bool = True  # keep per-cycle arrays (needed for plots and traces on disk)
+    # m, edge-to-geometry distance under which the row's time_near_obstacles_s counts (MRPB's
+    # safety distance)
+    safety_distance_m: float = 0.3
+    # the rules the episode is judged by (nav_bench.episode.protocol): a name and its settings
+    protocol: str = "nav_bench"
+    protocol_options: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for name in ("control_hz", "physics_hz", "time_s", "stuck_s", "stuck_radius",
-                     "goal_tolerance"):
+                     "goal_tolerance", "safety_distance_m"):
             value = getattr(self, name)
             if value is not None and not math.isfinite(value):
                 raise InputError(f"{name} must be a finite number, got {value}")
@@ -38,6 +45,11 @@ class EpisodeSettings:
             raise InputError("time_s must be positive")
         if self.goal_tolerance <= 0:
             raise InputError("goal_tolerance must be positive")
+        if self.safety_distance_m < 0:
+            raise InputError("safety_distance_m must not be negative")
+        from nav_bench.episode.protocol import make_protocol  # it builds on these settings
+
+        make_protocol(self.protocol, self.protocol_options)  # unknown names and settings fail here
 
     def time_limit(self, world: WorldSpec) -> float:
         """The time limit (s) for ``world``."""

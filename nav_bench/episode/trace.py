@@ -22,6 +22,7 @@ if TYPE_CHECKING:
     from nav_bench.episode.observers import Cycle
 
 ARRAYS = ("t", "true_pose", "odom_pose", "cmd", "ranges", "movers")
+OPTIONAL_ARRAYS = ("plan_s",)  # absent from traces written before they existed
 
 
 @dataclass
@@ -32,6 +33,8 @@ class Trace:
         t: (T,) simulated time, s. true_pose, odom_pose: (T, 3) x, y, yaw (m, m, rad).
         cmd: (T, 2) commanded v (m/s), omega (rad/s). ranges: (T, K) sonar readings, m.
         movers: (T, M, 2) mover positions, m. events: planner events as dicts {kind, t, data}.
+        plan_s: (T,) wall-clock seconds of each cycle's ``act()`` call (NaN: no call, as in the
+            final sample; empty in traces older than the field).
         planner_state: the planner's final ``debug_state()``. world: the world played.
         row: the result row as stored (:meth:`nav_bench.episode.row.ResultRow.to_json`).
     """
@@ -46,12 +49,13 @@ class Trace:
     events: list[dict[str, Any]] = field(default_factory=list)
     planner_state: dict[str, Any] = field(default_factory=dict)
     row: dict[str, Any] = field(default_factory=dict)
+    plan_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def save(self, path: str | Path) -> Path:
         """Write a compressed ``.npz`` (float32 arrays; events, state and row as JSON)."""
         path = Path(path)
         arrays = {k: np.asarray(getattr(self, k), dtype=np.float32)
-                  for k in ARRAYS}
+                  for k in ARRAYS + OPTIONAL_ARRAYS}
         arrays["t"] = np.asarray(self.t, dtype=np.float64)
         state_arrays = {f"state__{k}": v for k, v in self.planner_state.items()
                         if isinstance(v, np.ndarray)}
@@ -73,6 +77,7 @@ class Trace:
                           if k.startswith("state__")})
             return cls(world=WorldSpec.model_validate(meta["world"]),
                        **{k: data[k] for k in ARRAYS},
+                       **{k: data[k] for k in OPTIONAL_ARRAYS if k in data.files},
                        events=meta["events"], planner_state=state, row=meta["row"])
 
 
@@ -93,7 +98,7 @@ class TraceRecorder:
 
     def __init__(self, world: WorldSpec) -> None:
         self.world = world
-        self._rec: dict[str, list[Any]] = {k: [] for k in ARRAYS}
+        self._rec: dict[str, list[Any]] = {k: [] for k in ARRAYS + OPTIONAL_ARRAYS}
 
     def on_cycle(self, cycle: Cycle) -> None:
         rec = self._rec
@@ -103,6 +108,7 @@ class TraceRecorder:
         rec["cmd"].append((cycle.cmd.v, cycle.cmd.omega))
         rec["ranges"].append(cycle.obs.ranges)
         rec["movers"].append(cycle.sim.mover_positions())
+        rec["plan_s"].append(cycle.plan_s)
 
     def close(self) -> None:
         pass
@@ -116,6 +122,7 @@ class TraceRecorder:
         rec["true_pose"].append(true_pose)
         rec["odom_pose"].append(odom_pose)
         rec["cmd"].append((0.0, 0.0))
+        rec["plan_s"].append(np.nan)
         rec["ranges"].append(rec["ranges"][-1] if rec["ranges"] else np.zeros(0))
         movers = len(self.world.movers)
         rec["movers"].append(rec["movers"][-1] if rec["movers"] else np.zeros((movers, 2)))

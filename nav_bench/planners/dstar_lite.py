@@ -418,6 +418,21 @@ class DStarLite(Planner):
         return dr + r0, dc + c0, vals
 
     def act(self, obs: Observation) -> Command:
+        if not self.update_path(obs):
+            return STOP
+        p = self.settings
+        xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
+        v = min(p.v_max, obs.robot.v_max)
+        if len(self.cells) <= 2:  # in the goal's cell or next to it
+            d = float(np.hypot(*(goal - xy)))
+            return steer(obs, math.atan2(goal[1] - xy[1], goal[0] - xy[0]), arrival_speed(d, v))
+        return pure_pursuit(obs, self.path_xy, p.lookahead, v,
+                            turn_in_place=math.radians(p.turn_in_place_deg))
+
+    def update_path(self, obs: Observation) -> bool:
+        """Fuse the sonars into the grid, repair the search and refresh :attr:`path_xy`; emits
+        ``replan`` when the path ahead changed and ``unreachable`` (once per loss) when there is
+        none. Returns whether a path exists. (``dwa_global`` follows the same path with DWA.)"""
         p = self.settings
         self.grid.update(obs.pose, obs.ranges, obs.robot.sonar)
         start = self._clamp(self.grid.world_to_cell(obs.pose[:2]))
@@ -437,15 +452,9 @@ class DStarLite(Planner):
             if not self.unreachable:
                 self.emit("unreachable", obs.t)
             self.unreachable = True
-            return STOP
+            return False
         self.unreachable = False
-        xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
-        v = min(p.v_max, obs.robot.v_max)
-        if len(self.cells) <= 2:  # in the goal's cell or next to it
-            d = float(np.hypot(*(goal - xy)))
-            return steer(obs, math.atan2(goal[1] - xy[1], goal[0] - xy[0]), arrival_speed(d, v))
-        return pure_pursuit(obs, self.path_xy, p.lookahead, v,
-                            turn_in_place=math.radians(p.turn_in_place_deg))
+        return True
 
     def debug_state(self) -> dict[str, Any]:
         """The occupancy grid (:class:`~nav_bench.interface.GridState`, so plots draw it),

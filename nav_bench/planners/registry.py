@@ -34,6 +34,8 @@ BUILTIN: dict[str, str] = {
     "dstar_lite": "nav_bench.planners.dstar_lite:DStarLite",
     "vfh_plus": "nav_bench.planners.vfh_plus:VFHPlus",
     "apf": "nav_bench.planners.apf:PotentialField",
+    "dwa": "nav_bench.planners.dwa:DWA",
+    "dwa_global": "nav_bench.planners.dwa:DWAGlobal",
 }
 
 

@@ -5,7 +5,9 @@
 * :func:`success_within_time`: share of episodes that reached the goal within T simulated
   seconds, T from 0 to the time limit, one curve per parameter set;
 * :func:`trajectories`: for one world, the true trajectories of every parameter set over the
-  true map.
+  true map;
+* :func:`success_vs_smoothness`: success rate against integrated jerk and angle over length,
+  one point per parameter set.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import matplotlib.ticker
 import numpy as np
 
 from nav_bench.reporting.runs import Run, load_trajectory, trace_path, world_of
@@ -179,6 +182,40 @@ def trajectories(world_name: str, rows: Sequence[dict[str, Any]], runs: Sequence
     if keep:
         ax.legend(*zip(*keep, strict=True), fontsize=8, loc="upper left",
                   bbox_to_anchor=(1.01, 1.0), frameon=False)
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def success_vs_smoothness(overall: Sequence[GroupStats], path: Path) -> Path | None:
+    """Each parameter set as a point: success rate (y) against the smoothness of its successful
+    episodes (x): integrated squared linear jerk (log scale) and angle over length. None when
+    no set has a success with motion metrics."""
+    sets = [g for g in overall
+            if not math.isnan(g.motion.get("jerk_linear", math.nan))
+            and not math.isnan(g.motion.get("curvature_per_m", math.nan))]
+    if not sets:
+        return None
+    colors = _colors(len(sets))
+    fig, axes = plt.subplots(1, 2, figsize=(12.5, 4.4), sharey=True)
+    panels = (("jerk_linear", "integrated squared linear jerk (m²/s⁵), log scale", True),
+              ("curvature_per_m", "angle over length (rad/m)", False))
+    for ax, (key, label, log) in zip(axes, panels, strict=True):
+        for g, color in zip(sets, colors, strict=True):
+            x = g.motion[key]
+            ax.errorbar([x], [g.success], yerr=[[g.success - g.success_ci[0]], [g.success_ci[1] - g.success]],
+                        fmt="o", color=color, ms=7, capsize=2, lw=0.8, label=g.set)
+        if log and all(g.motion[key] > 0 for g in sets):
+            ax.set_xscale("log")
+            ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # labels overlap
+        ax.set_xlabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("success rate (95% Wilson interval)")
+    axes[0].set_ylim(-0.03, 1.05)
+    axes[0].set_title("smoothness of the successful episodes; left and up is better", fontsize=8,
+                      loc="left")
+    axes[1].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     fig.tight_layout()
     fig.savefig(path, dpi=DPI)
     plt.close(fig)

@@ -14,11 +14,13 @@ from __future__ import annotations
 import csv
 import io
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
 from nav_bench.batch.suite import slug
+from nav_bench.episode.motion import MOTION_FIELDS
+from nav_bench.episode.protocol import rules_text
 from nav_bench.episode.row import OUTCOMES
 from nav_bench.errors import InputError
 from nav_bench.reporting import figures as plots
@@ -81,7 +83,8 @@ def summary_csv(ranked: Sequence[GroupStats], per_world: dict[str, list[GroupSta
     w = csv.writer(out, lineterminator="\n")
     w.writerow(["set", "planner", "world", "episodes", *OUTCOMES, "success_rate", "success_lo",
                 "success_hi", "spl_mean", "spl_lo", "spl_hi", "time_to_goal_s", "path_length_m",
-                "replans_mean", "collisions_mean", "min_clearance_m"])
+                "replans_mean", "collisions_mean", "min_clearance_m", "barn_score_mean",
+                *MOTION_FIELDS])
 
     def num(x: float) -> str:
         return "" if math.isnan(x) else f"{x:.6g}"
@@ -90,7 +93,8 @@ def summary_csv(ranked: Sequence[GroupStats], per_world: dict[str, list[GroupSta
         w.writerow([g.set, g.planner, g.world, g.n, *(g.outcomes[k] for k in OUTCOMES),
                     num(g.success), num(g.success_ci[0]), num(g.success_ci[1]), num(g.spl),
                     num(g.spl_ci[0]), num(g.spl_ci[1]), num(g.time_s), num(g.path_m),
-                    num(g.replans), num(g.collisions), num(g.min_clearance_m)])
+                    num(g.replans), num(g.collisions), num(g.min_clearance_m), num(g.barn_score),
+                    *(num(g.motion[k]) for k in MOTION_FIELDS)])
     return out.getvalue()
 
 
@@ -106,11 +110,45 @@ def _runs_section(runs: Sequence[Run]) -> str:
                      m.get("started", "?"), m.get("host", "?"),
                      f"{executor.get('name', '?')} x{executor.get('workers', '?')}",
                      m.get("nav_bench", "?"), commit or "–"])
-    return _md_table(["run", "suite", "episodes", "status", "started", "host", "executor",
-                      "nav-bench", "commit"], rows)
+    table = _md_table(["run", "suite", "episodes", "status", "started", "host", "executor",
+                       "nav-bench", "commit"], rows)
+    rules = []
+    for run in runs:
+        stored = (run.meta.get("suite") or {}).get("protocol")
+        text = (rules_text(stored) if stored else
+                "protocol `nav_bench` (run stored before protocols were recorded in run.json)")
+        rules.append(f"* {run.name}: {text}" if len(runs) > 1 else text)
+    return table + "\n\nRules: " + ("\n".join(rules) if len(runs) == 1 else "\n\n" + "\n".join(rules))
 
 
 # --------------------------------------------------------------------------- the report
+def _motion_section(ranked: Sequence[GroupStats], figures: Path, rel: Callable[[Path], str]) -> list[str]:
+    """The motion metrics per parameter set over all worlds, and success vs smoothness."""
+    if all(math.isnan(v) for g in ranked for v in g.motion.values()):
+        return []  # rows stored before the motion metrics existed
+    digits = {"accel_mean_mps2": 3, "accel_max_mps2": 2, "jerk_linear": 1, "jerk_angular": 0,
+              "curvature_per_m": 2, "time_near_obstacles_s": 1, "plan_ms_mean": 2, "plan_ms_p95": 2}
+    header = {"accel_mean_mps2": "mean \\|a\\| (m/s²)", "accel_max_mps2": "max \\|a\\| (m/s²)",
+              "jerk_linear": "∫j² lin (m²/s⁵)", "jerk_angular": "∫j² ang (rad²/s⁵)",
+              "curvature_per_m": "angle/length (rad/m)", "time_near_obstacles_s": "time near (s)",
+              "plan_ms_mean": "plan ms mean", "plan_ms_p95": "plan ms p95"}
+    md = ["## Motion", "",
+          "How the robot moved, averaged over the episodes that reached the goal (definitions and "
+          "sources in the README, \"Motion metrics\"): mean and largest linear acceleration, "
+          "integrated squared linear and angular jerk, angle over length, time with the robot's "
+          "edge within the safety distance of geometry, and the planner's wall-clock compute "
+          "time per control cycle.", ""]
+    md.append(_md_table(["parameter set", "reached", *(header[k] for k in MOTION_FIELDS)],
+                        [[g.set, round(g.success * g.n),
+                          *(_f(g.motion[k], digits[k]) for k in MOTION_FIELDS)] for g in ranked]))
+    fig = plots.success_vs_smoothness(ranked, figures / "success_vs_smoothness.png")
+    if fig is not None:
+        md += ["", f"![success vs smoothness]({rel(fig)})", "",
+               "Up and to the left is better: more goals reached, with less jerk and less "
+               "turning per metre."]
+    return [*md, ""]
+
+
 def _report_dir(dirs: Sequence[Path], out: Path | None) -> Path:
     if out is not None:
         return Path(out)
@@ -161,13 +199,20 @@ def write_report(dirs: list[Path], out: Path | None = None) -> Path:
            "95% Wilson interval. SPL: mean over all episodes (failures count 0), 95% bootstrap "
            "interval. Time to goal and path length: means over episodes that reached the goal. "
            f"Outcomes: {' / '.join(OUTCOMES)}.", ""]
+    scored = any(not math.isnan(g.barn_score) for g in ranked)
     md.append(_md_table(
-        ["rank", "parameter set", "planner", "episodes", "success", "SPL", "time to goal (s)",
+        ["rank", "parameter set", "planner", "episodes", "success", "SPL",
+         *(["BARN score"] if scored else []), "time to goal (s)",
          "path (m)", "re-plans", "collisions", "outcomes"],
         [[i, g.set, g.planner, g.n, _ci(g.success, g.success_ci), _ci(g.spl, g.spl_ci),
+          *([_f(g.barn_score, 3)] if scored else []),
           _f(g.time_s, 1), _f(g.path_m), _f(g.replans, 1), _f(g.collisions, 1),
           _outcome_text(g.outcomes)] for i, g in enumerate(ranked, start=1)]))
+    if scored:
+        md += ["", "BARN score: mean of `barn_score` = success x OT / clip(AT, 2 OT, 8 OT) over "
+               "all episodes (failures 0; 0.5 is the best possible)."]
     md += ["", f"![success and SPL per world]({rel(fig_success)})", ""]
+    md += _motion_section(ranked, figures, rel)
     if fig_time is not None:
         md += [f"![success within a time budget]({rel(fig_time)})", "",
                "Share of episodes that reached the goal within T simulated seconds: a slow "

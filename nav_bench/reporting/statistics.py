@@ -5,7 +5,9 @@ fixed-seed generator):
   0 or 1, unlike the normal approximation);
 * SPL (success weighted by path length) averaged over all episodes, failures counting 0,
   with a 95% percentile-bootstrap interval of the mean;
-* time to goal and path length averaged over the episodes that reached the goal;
+* time to goal, path length and the motion metrics (acceleration, jerk, curvature, time near
+  obstacles, planner ms per cycle) averaged over the episodes that reached the goal;
+* ``barn_score`` (protocol barn) averaged over all episodes, failures counting 0;
 * paired comparisons of two parameter sets on the same (world, seed, robot): mean difference
   of SPL (all pairs) and of path length (pairs where both reached the goal) with bootstrap
   intervals, and wins / ties / losses by SPL.
@@ -24,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from nav_bench.episode.motion import MOTION_FIELDS
 from nav_bench.episode.row import OUTCOMES
 from nav_bench.reporting.runs import Run, world_of
 
@@ -105,6 +108,10 @@ class GroupStats:
     collisions: float
     min_clearance_m: float  # mean of the per-episode minimum
     spl_values: list[float] = field(default_factory=list, repr=False)
+    # mean of each motion metric (MOTION_FIELDS) over the episodes that reached the goal and
+    # have it (the same episodes as time and path; NaN: none)
+    motion: dict[str, float] = field(default_factory=dict)
+    barn_score: float = math.nan  # mean over the episodes that have one (failures count 0)
 
 def group_stats(rows: Sequence[dict[str, Any]], set_name: str, world: str) -> GroupStats:
     """Statistics of ``rows`` (all of one parameter set; one world or ``world='all'``)."""
@@ -124,7 +131,9 @@ def group_stats(rows: Sequence[dict[str, Any]], set_name: str, world: str) -> Gr
         replans=_mean(r.get("replans") for r in rows),
         collisions=_mean(r.get("collisions") for r in rows),
         min_clearance_m=_mean(r.get("min_clearance_m") for r in rows),
-        spl_values=spl)
+        spl_values=spl,
+        motion={k: _mean(r.get(k) for r in reached) for k in MOTION_FIELDS},
+        barn_score=_mean(r.get("barn_score") for r in rows))
 
 def _by(rows: Iterable[dict[str, Any]], key: Callable[[dict[str, Any]], Any]) -> dict[Any, list]:
     out: dict[Any, list] = defaultdict(list)

@@ -18,6 +18,7 @@ from nav_bench.batch.executors import LocalPool, make_executor  # noqa: E402
 from nav_bench.batch.runner import run_suite  # noqa: E402
 from nav_bench.batch.store import ResultsStore, check_row  # noqa: E402
 from nav_bench.batch.suite import expand, load_suite  # noqa: E402
+from nav_bench.episode.row import WALL_CLOCK_FIELDS  # noqa: E402
 from nav_bench.errors import InputError, UnknownNameError  # noqa: E402
 from tests.helpers import fake_episodes, tiny  # noqa: E402
 
@@ -61,7 +62,7 @@ def test_executor_names():
 
 
 def comparable(rows):
-    return {r["job_id"]: {k: v for k, v in r.items() if k != "wall_s"} for r in rows}
+    return {r["job_id"]: {k: v for k, v in r.items() if k not in WALL_CLOCK_FIELDS} for r in rows}
 
 
 def test_dask_cluster_gives_the_rows_of_the_local_pool(tmp_path):

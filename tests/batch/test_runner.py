@@ -25,12 +25,13 @@ from nav_bench.batch.runner import run_suite  # noqa: E402
 from nav_bench.batch.store import ResultsStore, ResultsWarning, check_row  # noqa: E402
 from nav_bench.batch.suite import expand, load_suite  # noqa: E402
 from nav_bench.batch.worker import finish_row, run_job  # noqa: E402
+from nav_bench.episode.row import WALL_CLOCK_FIELDS  # noqa: E402
 from nav_bench.errors import InputError, UnknownNameError  # noqa: E402
 from tests.helpers import fake_episodes, tiny  # noqa: E402
 
 
 def without_wall(rows):
-    return {r["job_id"]: {k: v for k, v in r.items() if k != "wall_s"} for r in rows}
+    return {r["job_id"]: {k: v for k, v in r.items() if k not in WALL_CLOCK_FIELDS} for r in rows}
 
 
 def test_small_suite_real_episodes_valid_rows_reproducible(tmp_path):
@@ -67,7 +68,7 @@ def test_small_suite_real_episodes_valid_rows_reproducible(tmp_path):
     job = jobs[5]
     alone = finish_row(run_job(job).row, job).to_json()
     stored = without_wall(rows)[job.job_id]
-    assert {k: v for k, v in alone.items() if k not in ("wall_s", "trace")} == {
+    assert {k: v for k, v in alone.items() if k not in WALL_CLOCK_FIELDS | {"trace"}} == {
         k: v for k, v in stored.items() if k != "trace"}
 
 

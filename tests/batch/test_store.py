@@ -43,7 +43,7 @@ def test_an_error_row_may_leave_measurements_null():
     ({"seed": True}, "'seed' should be int"),
     ({"replans": 1.5}, "'replans' should be int"),
     ({"success": 1}, "'success' should be bool"),
-    ({"outcome": "crashed"}, "not one of reached, timeout, stuck, error"),
+    ({"outcome": "crashed"}, "not one of reached, timeout, stuck, collision, error"),
     ({"success": False}, "disagrees with outcome 'reached'"),
     ({"error": "boom"}, "error text must be present exactly when outcome is 'error'"),
     ({"spl": 1.2}, "outside [0, 1]"),

@@ -13,6 +13,7 @@ import pytest
 
 from nav_bench.episode import EpisodeSettings, Trace
 from nav_bench.episode.loop import run_episode
+from nav_bench.episode.row import WALL_CLOCK_FIELDS
 from nav_bench.interface import Command
 from nav_bench.planners.base import Planner
 from nav_bench.specs import PlannerSetSpec, WorldSpec
@@ -61,8 +62,8 @@ def test_result_row_has_every_interface_field_with_its_type(open_room_result):
 def test_same_seed_gives_the_same_row_but_wall_time(open_room_result):
     world = load_world(OPEN_ROOM)
     again = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=3, world_file=str(OPEN_ROOM))
-    a = {k: v for k, v in open_room_result.row.to_json().items() if k != "wall_s"}
-    b = {k: v for k, v in again.row.to_json().items() if k != "wall_s"}
+    a = {k: v for k, v in open_room_result.row.to_json().items() if k not in WALL_CLOCK_FIELDS}
+    b = {k: v for k, v in again.row.to_json().items() if k not in WALL_CLOCK_FIELDS}
     assert a == b
     np.testing.assert_array_equal(open_room_result.trace.true_pose, again.trace.true_pose)
 
@@ -97,8 +98,8 @@ def test_a_reused_session_gives_the_rows_of_fresh_ones():
         assert session.client.getNumBodies() > 0  # still open: the caller owns it
     for (world, planner, settings), again in zip(plays, reused, strict=True):
         fresh = run_episode(world, PlannerSetSpec(planner=planner), seed=5, settings=settings)
-        assert {k: v for k, v in again.row.to_json().items() if k != "wall_s"} == \
-            {k: v for k, v in fresh.row.to_json().items() if k != "wall_s"}
+        assert {k: v for k, v in again.row.to_json().items() if k not in WALL_CLOCK_FIELDS} == \
+            {k: v for k, v in fresh.row.to_json().items() if k not in WALL_CLOCK_FIELDS}
         np.testing.assert_array_equal(again.trace.true_pose, fresh.trace.true_pose)
         np.testing.assert_array_equal(again.trace.ranges, fresh.trace.ranges)
     assert reused[0].row.time_s == pytest.approx(8.0)  # the movers world played in full

@@ -17,7 +17,7 @@ from nav_bench.testing import conformance
 
 NAMES = default_registry().names()
 CONFIGS = Path(__file__).resolve().parents[2] / "configs" / "planners"
-BASELINES = ("bug2", "tangent_bug", "dstar_lite", "vfh_plus", "apf")
+BASELINES = ("bug2", "tangent_bug", "dstar_lite", "vfh_plus", "apf", "dwa", "dwa_global")
 
 
 def planner_class(name: str) -> type[Planner]:
