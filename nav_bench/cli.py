@@ -38,8 +38,10 @@ def _key_value(text: str) -> tuple[str, Any]:
 # --------------------------------------------------------------------------- commands
 def cmd_run(args: argparse.Namespace) -> int:
     from nav_bench.batch.runner import run_suite
+    from nav_bench.paths import find
 
-    out = run_suite(args.suite, workers=args.workers, out=args.out, resume=args.resume,
+    suite = find("suite", args.suite).path if args.suite else None
+    out = run_suite(suite, workers=args.workers, out=args.out, resume=args.resume,
                     executor=args.executor, progress=not args.quiet)
     print(f"results: {out}")
     if not args.no_report:
@@ -52,13 +54,15 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 def cmd_episode(args: argparse.Namespace) -> int:
     from nav_bench.episode import EpisodeSettings, run_episode
+    from nav_bench.paths import find
     from nav_bench.planners.registry import parse_planner_arg
     from nav_bench.specs import load_robot
     from nav_bench.world.load import load_world
 
-    world = load_world(args.world)
+    world_file = find("world", args.world)
+    world = load_world(world_file.path)
     planner = parse_planner_arg(args.planner)
-    robot = load_robot(args.robot) if args.robot else load_robot()
+    robot = load_robot(find("robot", args.robot).path) if args.robot else load_robot()
     settings = EpisodeSettings(time_s=args.time_limit, stuck_s=None if args.no_stuck else 30.0)
     live = None
     if args.live or args.record:
@@ -66,7 +70,7 @@ def cmd_episode(args: argparse.Namespace) -> int:
 
         live = LiveView(world, every_s=0.5, show=args.live, save=args.record)
     result = run_episode(world, planner, seed=args.seed, robot=robot, settings=settings,
-                         world_file=args.world, gui=args.gui, live=live)
+                         world_file=world_file.given, gui=args.gui, live=live)
     row = result.row
     if args.plot:
         from nav_bench.reporting.episode_plot import plot_episode
@@ -112,10 +116,11 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 
 def cmd_show(args: argparse.Namespace) -> int:
+    from nav_bench.paths import find
     from nav_bench.world.draw import save_world_png
     from nav_bench.world.load import load_world
 
-    world = load_world(args.world)
+    world = load_world(find("world", args.world).path)
     save_world_png(world, args.output)
     print(f"{world.name}: {world.size[0]:g} m x {world.size[1]:g} m, {len(world.obstacles)} "
           f"obstacles, {len(world.movers)} movers -> {args.output}")
@@ -187,9 +192,26 @@ def cmd_import(args: argparse.Namespace) -> int:
 
 
 def cmd_perf(args: argparse.Namespace) -> int:
+    from nav_bench.paths import find
     from nav_bench.perf import run_perf
 
-    run_perf(world_file=args.world, seconds=args.seconds)
+    run_perf(world_file=find("world", args.world).given, seconds=args.seconds)
+    return 0
+
+
+def cmd_list(args: argparse.Namespace) -> int:
+    from nav_bench.paths import KIND_FOLDERS, data_root, describe
+
+    kinds = {"suites": "suite", "worlds": "world", "sets": "planner set", "robots": "robot"}
+    for heading, kind in kinds.items():
+        if args.kind not in (None, heading):
+            continue
+        print(f"{heading} ({KIND_FOLDERS[kind]}/):")
+        for name, line in describe(kind):
+            print(f"  {name:28s} {line[:100]}")
+        print()
+    print(f"shipped data: {data_root()}\nnames work wherever a file does; a file of yours, "
+          "given as a path, comes first")
     return 0
 
 
@@ -202,7 +224,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     p = sub.add_parser("run", help="run a batch benchmark (default suite: configs/suites/default.yaml)")
-    p.add_argument("suite", nargs="?", help="suite YAML (default: configs/suites/default.yaml)")
+    p.add_argument("suite", nargs="?",
+                   help="suite YAML or shipped suite name, e.g. smoke (default: the default suite)")
     p.add_argument("--workers", type=int, help="parallel worker processes (default: CPU cores)")
     p.add_argument("--out", type=Path, help="results folder (default: results/<suite>-<timestamp>)")
     p.add_argument("--resume", type=Path, help="finish an interrupted results folder")
@@ -213,11 +236,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_run)
 
     p = sub.add_parser("episode", help="play one episode")
-    p.add_argument("world", help="world YAML")
+    p.add_argument("world", help="world YAML or shipped world name (paper/long_wall)")
     p.add_argument("--planner", default="eopc",
-                   help="name, parameter-set file, or name:key=value,... (default: eopc)")
+                   help="name, parameter set (file or shipped name), or name:key=value,... "
+                        "(default: eopc)")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--robot", help="robot config YAML (default: robots/diffbot.yaml)")
+    p.add_argument("--robot", help="robot config YAML or name (default: robots/diffbot.yaml)")
     p.add_argument("--time-limit", type=float, help="simulated seconds (default: scales with world size)")
     p.add_argument("--no-stuck", action="store_true", help="do not end the episode when the robot stalls")
     p.add_argument("--plot", help="write a PNG of the map, trajectory and planner state")
@@ -273,6 +297,11 @@ def build_parser() -> argparse.ArgumentParser:
     q.add_argument("map")
     q.add_argument("-o", "--output", required=True)
     p.set_defaults(func=cmd_import)
+
+    p = sub.add_parser("list", help="list the shipped suites, worlds, parameter sets and robots")
+    p.add_argument("kind", nargs="?", choices=("suites", "worlds", "sets", "robots"),
+                   help="only this kind (sets: planner parameter sets)")
+    p.set_defaults(func=cmd_list)
 
     p = sub.add_parser("perf", help="measure simulation and episode speed on this machine")
     p.add_argument("--world", default="worlds/paper/open_room.yaml",
