@@ -44,6 +44,12 @@ def cmd_run(args: argparse.Namespace) -> int:
     out = run_suite(suite, workers=args.workers, out=args.out, resume=args.resume,
                     executor=args.executor, progress=not args.quiet)
     print(f"results: {out}")
+    if args.record_failures:
+        from nav_bench.batch.store import ResultsStore
+        from nav_bench.reporting.replay import record_failures
+
+        gifs = record_failures(ResultsStore(out).rows(), out)
+        print(f"failures: {len(gifs)} GIFs beside their traces in {out / 'traces'}")
     if not args.no_report:
         from nav_bench.reporting.markdown import write_report
 
@@ -199,6 +205,14 @@ def cmd_perf(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_replay(args: argparse.Namespace) -> int:
+    from nav_bench.reporting.replay import replay
+
+    frames = replay(args.trace, args.record, every_s=args.every, fps=args.fps)
+    print(f"wrote {args.record} ({frames} frames)")
+    return 0
+
+
 def cmd_list(args: argparse.Namespace) -> int:
     from nav_bench.paths import KIND_FOLDERS, data_root, describe
 
@@ -233,6 +247,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="local (process pool), dask (local cluster) or dask:tcp://HOST:PORT")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument("--no-report", action="store_true", help="do not write report.md at the end")
+    p.add_argument("--record-failures", action="store_true",
+                   help="keep a GIF of each episode that did not reach its goal, beside its trace")
     p.set_defaults(func=cmd_run)
 
     p = sub.add_parser("episode", help="play one episode")
@@ -297,6 +313,14 @@ def build_parser() -> argparse.ArgumentParser:
     q.add_argument("map")
     q.add_argument("-o", "--output", required=True)
     p.set_defaults(func=cmd_import)
+
+    p = sub.add_parser("replay", help="re-render a stored episode (trace .npz) as a .gif or .mp4")
+    p.add_argument("trace", help="a trace .npz (nav-bench episode --trace, or a results folder's "
+                                 "traces/)")
+    p.add_argument("--record", required=True, help="the .gif or .mp4 to write")
+    p.add_argument("--every", type=float, default=0.5, help="simulated seconds between frames")
+    p.add_argument("--fps", type=float, help="playback frames per second (default: real time)")
+    p.set_defaults(func=cmd_replay)
 
     p = sub.add_parser("list", help="list the shipped suites, worlds, parameter sets and robots")
     p.add_argument("kind", nargs="?", choices=("suites", "worlds", "sets", "robots"),
