@@ -77,9 +77,9 @@ def throughput(executor: str, workers: int, jobs) -> tuple[float, float, float, 
     first = None
     walls = []
     for outcome in runner.run(jobs, run_job):
-        walls.append(outcome.row["wall_s"])
+        walls.append(outcome.row.wall_s)
         if first is None:  # the first episode's own time is work, not start-up
-            first = time.perf_counter() - t0 - outcome.row["wall_s"]
+            first = time.perf_counter() - t0 - outcome.row.wall_s
     total = time.perf_counter() - t0
     startup = max(0.0, first or 0.0)
     n = len(walls)

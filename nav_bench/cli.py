@@ -6,6 +6,7 @@ Exit status: 0 success, 2 bad input (nothing simulated), 1 anything else.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import sys
 from collections.abc import Callable, Sequence
@@ -14,6 +15,7 @@ from typing import Any
 
 from nav_bench import __version__
 from nav_bench.errors import InputError, NavBenchError
+from nav_bench.interface import Outcome
 
 Handler = Callable[[argparse.Namespace], int]
 
@@ -59,7 +61,8 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 
 def cmd_episode(args: argparse.Namespace) -> int:
-    from nav_bench.episode import EpisodeSettings, run_episode
+    from nav_bench.episode import EpisodeSettings
+    from nav_bench.episode.loop import run_episode
     from nav_bench.paths import find
     from nav_bench.planners.registry import parse_planner_arg
     from nav_bench.specs import load_robot
@@ -69,7 +72,9 @@ def cmd_episode(args: argparse.Namespace) -> int:
     world = load_world(world_file.path)
     planner = parse_planner_arg(args.planner)
     robot = load_robot(find("robot", args.robot).path) if args.robot else load_robot()
-    settings = EpisodeSettings(time_s=args.time_limit, stuck_s=None if args.no_stuck else 30.0)
+    settings = EpisodeSettings(time_s=args.time_limit)
+    if args.no_stuck:
+        settings = dataclasses.replace(settings, stuck_s=None)
     live = None
     if args.live or args.record:
         from nav_bench.reporting.live import LiveView
@@ -85,22 +90,22 @@ def cmd_episode(args: argparse.Namespace) -> int:
     if args.trace:
         result.trace.save(args.trace)
     if args.json:
-        print(json.dumps(row, default=str))
+        print(json.dumps(row.to_json(), default=str))
     else:
-        print(f"{row['world']} / {row['planner']} seed {row['seed']}: {row['outcome']} in "
-              f"{row['time_s']:.1f} s simulated ({row['wall_s']:.2f} s wall), path "
-              f"{row['path_length_m']:.2f} m (optimal {_fmt(row['optimal_length_m'])} m), "
-              f"SPL {row['spl']:.3f}, re-plans {row['replans']}, collisions {row['collisions']}, "
-              f"min clearance {row['min_clearance_m']:.3f} m")
-        if row["error"]:
-            print(row["error"], file=sys.stderr)
+        print(f"{row.world} / {row.planner} seed {row.seed}: {row.outcome} in "
+              f"{_fmt(row.time_s, 1)} s simulated ({row.wall_s:.2f} s wall), path "
+              f"{_fmt(row.path_length_m)} m (optimal {_fmt(row.optimal_length_m)} m), "
+              f"SPL {row.spl:.3f}, re-plans {row.replans}, collisions {row.collisions}, "
+              f"min clearance {_fmt(row.min_clearance_m, 3)} m")
+        if row.error:
+            print(row.error, file=sys.stderr)
         if args.plot:
             print(f"plot: {args.plot}")
-    return 0 if row["outcome"] != "error" else 1
+    return 0 if row.outcome is not Outcome.ERROR else 1
 
 
-def _fmt(value: float | None) -> str:
-    return "n/a" if value is None else f"{value:.2f}"
+def _fmt(value: float | None, digits: int = 2) -> str:
+    return "n/a" if value is None else f"{value:.{digits}f}"
 
 
 def cmd_report(args: argparse.Namespace) -> int:

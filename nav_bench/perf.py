@@ -19,7 +19,8 @@ import time
 
 import numpy as np
 
-from nav_bench.episode import EpisodeSettings, run_episode
+from nav_bench.episode import EpisodeSettings
+from nav_bench.episode.loop import run_episode
 from nav_bench.interface import Command
 from nav_bench.specs import PlannerSetSpec, WorldSpec, load_robot
 from nav_bench.world.load import load_world
@@ -94,8 +95,8 @@ def _episode_figures(world: WorldSpec, world_file: str, planner: str, seconds: f
     with SimSession() as session:
         warm = sorted((play(session)[1] for _ in range(repeats)), key=lambda t: t["total"])
     median = warm[len(warm) // 2]
-    sim_s = row["time_s"]
-    print(f"{planner} episode in {row['world']}: {sim_s:.1f} s simulated ({row['outcome']})")
+    sim_s = row.time_s
+    print(f"{planner} episode in {row.world}: {sim_s:.1f} s simulated ({row.outcome})")
     _print_split("with a client of its own (nav-bench episode)", sim_s / cold["total"], cold)
     rtf = sim_s / median["total"]
     _print_split(f"in a worker's session, median of {repeats}", rtf, median)

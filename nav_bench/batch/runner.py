@@ -42,7 +42,9 @@ from nav_bench.batch.suite import (
     with_world_files,
 )
 from nav_bench.batch.worker import EpisodeFn, JobOutcome, run_job
+from nav_bench.episode.row import ResultRow
 from nav_bench.errors import InputError, NavBenchError
+from nav_bench.interface import Outcome
 
 RUN_FORMAT = 1
 
@@ -91,12 +93,12 @@ class _StopRequests:
 class _Progress:
     """A tqdm bar: done/total, successes and errors so far, elapsed and remaining time."""
 
-    def __init__(self, total: int, done_rows: list[dict[str, Any]], desc: str,
+    def __init__(self, total: int, done_rows: list[ResultRow], desc: str,
                  enabled: bool) -> None:
         from tqdm import tqdm
 
-        self.ok = sum(1 for r in done_rows if r.get("success"))
-        self.errors = sum(1 for r in done_rows if r.get("outcome") == "error")
+        self.ok = sum(1 for r in done_rows if r.success)
+        self.errors = sum(1 for r in done_rows if r.outcome is Outcome.ERROR)
         self.bar = tqdm(total=total, initial=len(done_rows), desc=desc, unit="ep",
                         disable=not enabled, file=sys.stderr, dynamic_ncols=True)
         self._postfix()
@@ -104,9 +106,9 @@ class _Progress:
     def _postfix(self) -> None:
         self.bar.set_postfix_str(f"reached {self.ok}, errors {self.errors}", refresh=False)
 
-    def update(self, row: dict[str, Any]) -> None:
-        self.ok += bool(row.get("success"))
-        self.errors += row.get("outcome") == "error"
+    def update(self, row: ResultRow) -> None:
+        self.ok += row.success
+        self.errors += row.outcome is Outcome.ERROR
         self._postfix()
         self.bar.update(1)
 
@@ -201,20 +203,20 @@ def _write_generated_worlds(suite: Suite, store: ResultsStore) -> dict[str, str]
     return files
 
 
-def _store_outcome(store: ResultsStore, outcome: JobOutcome) -> dict[str, Any]:
+def _store_outcome(store: ResultsStore, outcome: JobOutcome) -> ResultRow:
     """Trace first (atomically), then the row: a stored row always has its trace."""
     row = outcome.row
-    row["trace"] = None
+    row.trace = None
     if outcome.trace is not None:
         path = store.trace_path(outcome.job_id)
         tmp = path.with_name(f".{path.name}.tmp")
         try:
             outcome.trace.save(tmp)
             os.replace(tmp, path)
-            row["trace"] = f"{path.parent.name}/{path.name}"
+            row.trace = f"{path.parent.name}/{path.name}"
         except Exception as exc:  # a trace that cannot be written must not cost the row
             tmp.unlink(missing_ok=True)
-            row["trace_error"] = f"{type(exc).__name__}: {exc}"
+            row.trace_error = f"{type(exc).__name__}: {exc}"
     store.append(row)
     return row
 
@@ -268,8 +270,8 @@ def run_suite(suite_path: str | Path | None, *, workers: int | None = None,
 
     with store:
         jobs = with_world_files(jobs, _write_generated_worlds(suite, store))
-        done_rows = store.rows()
-        done = {r.get("job_id") for r in done_rows}
+        done_rows = store.results()
+        done = {r.job_id for r in done_rows}
         pending = [j for j in jobs if j.job_id not in done]
         env = environment()
         session: dict[str, Any] = {"started": _now(), "ended": None, "status": "running",
@@ -288,8 +290,8 @@ def run_suite(suite_path: str | Path | None, *, workers: int | None = None,
             if ended:
                 session["ended"] = meta["ended"] = _now()
             meta["done"] = len(done_rows)
-            meta["errors"] = sum(1 for r in done_rows if r.get("outcome") == "error")
-            meta["reached"] = sum(1 for r in done_rows if r.get("success"))
+            meta["errors"] = sum(1 for r in done_rows if r.outcome is Outcome.ERROR)
+            meta["reached"] = sum(1 for r in done_rows if r.success)
             store.write_run(meta)
 
         save_meta("running")

@@ -20,95 +20,19 @@ import math
 import os
 import tempfile
 import warnings
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+from nav_bench.episode.row import ResultRow, RowSchemaError, check_row
 from nav_bench.errors import InputError
-from nav_bench.interface import Outcome
 
 EPISODES = "episodes.jsonl"
 RUN = "run.json"
 TRACES = "traces"
 WORLDS = "worlds"
 
-OUTCOMES = tuple(o.value for o in Outcome)  # the words a row's outcome may take, in report order
-
-# The result row (INTERFACES.md) plus the runner's fields: field -> accepted JSON types.
-# ``float`` fields accept JSON integers too (``1`` and ``1.0`` are the same number in JSON).
-ROW_FIELDS: dict[str, tuple[type, ...]] = {
-    "job_id": (str,),  # stable id of (world, parameter set, robot, seed, limits); traces/<job_id>.npz
-    "label": (str,),  # the suite's name for the parameter set, e.g. "eopc_rr[RR=0.4]"
-    "world": (str,),
-    "world_file": (str,),
-    "planner": (str,),
-    "params": (dict,),
-    "params_id": (str,),
-    "robot": (str,),  # robot variant label, e.g. "diffbot[sonar.noise_std=0.02]"
-    "robot_id": (str,),  # stable hash of the robot's settings and URDF content
-    "seed": (int,),
-    "success": (bool,),
-    "outcome": (str,),
-    "time_s": (float,),
-    "path_length_m": (float,),
-    "optimal_length_m": (float, type(None)),
-    "spl": (float,),
-    "replans": (int,),
-    "collisions": (int,),
-    "min_clearance_m": (float, type(None)),  # null when nothing was recorded
-    "wall_s": (float,),
-    "settings": (dict,),
-    "error": (str, type(None)),  # traceback text for outcome "error", else null
-    "events": (dict,),  # planner events: count per kind
-}
-
-# Measured quantities an ``error`` row may leave null: the episode never finished.
-ERROR_NULLABLE = frozenset({"time_s", "path_length_m", "replans", "collisions", "min_clearance_m"})
-
-
 class ResultsWarning(UserWarning):
     """Something in a results folder was repaired or skipped (a torn last line, a duplicate row)."""
-
-
-class RowSchemaError(ValueError):
-    """A result row that does not match :data:`ROW_FIELDS`; lists every problem."""
-
-
-def row_problems(row: dict[str, Any]) -> list[str]:
-    """Every way ``row`` differs from :data:`ROW_FIELDS` and the row's rules (empty: valid)."""
-    problems = []
-    is_error = row.get("outcome") == "error"
-    for name, types in ROW_FIELDS.items():
-        if name not in row:
-            problems.append(f"missing field {name!r}")
-            continue
-        value = row[name]
-        if value is None and is_error and name in ERROR_NULLABLE:
-            continue
-        accepted = types + ((int,) if float in types else ())
-        # bool is an int subclass in Python but not a number in a row
-        if not isinstance(value, accepted) or (isinstance(value, bool) and bool not in types):
-            expected = " or ".join("null" if t is type(None) else t.__name__ for t in types)
-            problems.append(f"field {name!r} should be {expected}, got {value!r:.60}")
-    if not problems:
-        if row["outcome"] not in OUTCOMES:
-            problems.append(f"outcome {row['outcome']!r} is not one of {', '.join(OUTCOMES)}")
-        if row["success"] != (row["outcome"] == "reached"):
-            problems.append(f"success {row['success']} disagrees with outcome {row['outcome']!r}")
-        if (row["error"] is not None) != is_error:
-            problems.append("error text must be present exactly when outcome is 'error'")
-        if not 0.0 <= row["spl"] <= 1.0:
-            problems.append(f"spl {row['spl']} is outside [0, 1]")
-        if row["seed"] < 0:
-            problems.append(f"seed {row['seed']} is negative")
-    return problems
-
-
-def check_row(row: dict[str, Any]) -> None:
-    """Raise :class:`RowSchemaError` listing every problem of ``row``; return if it is valid."""
-    problems = row_problems(row)
-    if problems:
-        raise RowSchemaError("; ".join(problems))
 
 
 def _finite_or_none(value: Any) -> Any:
@@ -220,11 +144,14 @@ class ResultsStore:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def append(self, row: dict[str, Any]) -> None:
-        """Append one row and make it durable (flush + fsync) before returning."""
+    def append(self, row: ResultRow) -> None:
+        """Append one row (checked against the row schema first) and make it durable (flush +
+        fsync) before returning. :class:`RowSchemaError` if the row is not valid."""
+        data = row.to_json()
+        check_row(data)
         if self._file is None:
             self.open()
-        self._file.write(row_to_line(row))
+        self._file.write(row_to_line(data))
         self._file.flush()
         os.fsync(self._file.fileno())
 
@@ -256,12 +183,22 @@ class ResultsStore:
                 if not isinstance(row, dict):
                     raise InputError(f"{self.episodes_path}:{number}: not a JSON row; the file "
                                      f"is damaged (more than a torn last line)")
+                try:
+                    check_row(row)
+                except RowSchemaError as exc:
+                    raise InputError(f"{self.episodes_path}:{number}: not a valid result row: "
+                                     f"{exc}") from None
                 rows.append(row)
             offset += len(raw) + 1
         return rows, None, offset
 
+    def results(self) -> list[ResultRow]:
+        """Every complete row as a :class:`ResultRow`, in file order (see :meth:`rows`)."""
+        return [ResultRow.from_json(r) for r in self.rows()]
+
     def rows(self) -> list[dict[str, Any]]:
-        """Every complete row, in file order; a torn last line is skipped with a warning."""
+        """Every complete row as stored (JSON objects, each checked against the row schema),
+        in file order; a torn last line is skipped with a warning."""
         rows, torn, _ = self._scan()
         if torn is not None:
             warnings.warn(f"{self.episodes_path}:{torn}: incomplete last line (the run was "
@@ -286,9 +223,6 @@ class ResultsStore:
     def done_ids(self) -> set[str]:
         """job_ids that have a complete row."""
         return {r["job_id"] for r in self.rows() if "job_id" in r}
-
-    def iter_rows(self) -> Iterator[dict[str, Any]]:
-        yield from self.rows()
 
 
 def _drop_duplicates(rows: list[dict[str, Any]], path: Path) -> list[dict[str, Any]]:

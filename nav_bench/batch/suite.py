@@ -46,6 +46,7 @@ from typing import Any
 
 from pydantic import Field, PositiveFloat
 
+from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.errors import InputError, SpecError, SpecErrors, UnknownNameError, format_key_path
 from nav_bench.ids import params_id, robot_id, stable_id
 from nav_bench.paths import project_file, project_roots
@@ -391,8 +392,6 @@ def suite_from_data(data: Any, *, file: str | None = None, index: LineIndex | No
 
 def _settings(limits: Limits, file: str | None, index: LineIndex | None) -> tuple[dict[str, Any],
                                                                                   float | None]:
-    from nav_bench.episode import EpisodeSettings
-
     given = limits.model_dump(exclude_unset=True)
     wall_s = given.pop("wall_s", DEFAULT_WALL_S)
     try:

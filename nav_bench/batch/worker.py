@@ -14,6 +14,7 @@ same worker process inside each Dask task.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import importlib
 import logging
 import math
@@ -29,6 +30,7 @@ from multiprocessing.connection import wait as wait_for
 from typing import TYPE_CHECKING, Any
 
 from nav_bench.batch.suite import EpisodeJob
+from nav_bench.episode import EpisodeSettings, ResultRow
 from nav_bench.errors import NavBenchError
 
 if TYPE_CHECKING:  # imported for real in the workers only: PyBullet prints a banner at import
@@ -47,7 +49,7 @@ PRELOAD = ("numpy", "nav_bench.episode", "nav_bench.world.optimal")
 WORKER_IMPORTS = ("nav_bench.episode", "nav_bench.world.optimal")
 # imported with C-level output silenced: PyBullet prints a build banner to stderr at import,
 # once per worker, through the middle of the progress bar
-QUIET_IMPORTS = ("nav_bench.sim.simulation",)
+QUIET_IMPORTS = ("nav_bench.episode.loop",)
 
 
 class ExecutorError(NavBenchError):
@@ -61,46 +63,36 @@ class JobOutcome:
     before it had one)."""
 
     job_id: str
-    row: dict[str, Any]
+    row: ResultRow
     trace: Any | None
 
 
 def run_job(job: EpisodeJob, session: SimSession | None = None) -> Any:
-    """The real episode function: play ``job`` with :func:`nav_bench.episode.run_episode`,
+    """The real episode function: play ``job`` with :func:`nav_bench.episode.loop.run_episode`,
     in ``session`` (a :class:`~nav_bench.sim.session.SimSession`) when one is given."""
-    from nav_bench.episode import EpisodeSettings, run_episode
+    # imported here, in the worker: the parent process never imports the simulator
+    from nav_bench.episode.loop import run_episode
 
     return run_episode(job.world, job.planner, seed=job.seed, robot=job.robot,
                        settings=EpisodeSettings(**job.settings), world_file=job.world_file,
                        session=session)
 
 
-def error_row(job: EpisodeJob, error: str, wall_s: float) -> dict[str, Any]:
-    """The row of an episode that did not finish: outcome ``error``, measured fields null."""
-    return {
-        "world": job.world_name, "world_file": job.world_file, "planner": job.planner.planner,
-        "params": job.params, "params_id": job.params_id, "seed": job.seed,
-        "success": False, "outcome": "error", "time_s": None, "path_length_m": None,
-        "optimal_length_m": None, "spl": 0.0, "replans": None, "collisions": None,
-        "min_clearance_m": None, "wall_s": wall_s, "settings": job.settings, "events": {},
-        "error": error,
-    }
+def error_row(job: EpisodeJob, error: str, wall_s: float) -> ResultRow:
+    """The row of a job whose episode did not finish: outcome ``error``, measurements null."""
+    return ResultRow.failure(world=job.world_name, world_file=job.world_file,
+                           planner=job.planner.planner, params=job.params,
+                           params_id=job.params_id, seed=job.seed, settings=job.settings,
+                           error=error, wall_s=wall_s)
 
 
-def finish_row(row: dict[str, Any], job: EpisodeJob) -> dict[str, Any]:
-    """The row as stored: the job's identity first, then the episode's fields."""
-    out: dict[str, Any] = {"job_id": job.job_id, "label": job.label}
-    out.update(row)
-    out["world_file"] = job.world_file
-    out["robot"] = job.robot_label  # the variant label ("diffbot[sonar.noise_std=0.02]")
-    out["robot_id"] = row.get("robot_id") or job.robot_id
-    limit = job.settings.get("time_s")
-    if limit is None:  # the episode's default limit scales with the world's size
-        from nav_bench.episode import EpisodeSettings
-
-        limit = EpisodeSettings(**job.settings).time_limit(job.world)
-    out["time_limit_s"] = float(limit)
-    return out
+def finish_row(row: ResultRow, job: EpisodeJob) -> ResultRow:
+    """The row as stored: with the job's identity, its robot label and its time limit."""
+    return dataclasses.replace(
+        row, job_id=job.job_id, label=job.label, world_file=job.world_file,
+        robot=job.robot_label,  # the variant label ("diffbot[sonar.noise_std=0.02]")
+        robot_id=row.robot_id or job.robot_id,
+        time_limit_s=float(EpisodeSettings(**job.settings).time_limit(job.world)))
 
 
 def execute_job(job: EpisodeJob, episode_fn: EpisodeFn,
@@ -110,7 +102,7 @@ def execute_job(job: EpisodeJob, episode_fn: EpisodeFn,
     t0 = time.perf_counter()
     try:
         result = episode_fn(job, session)
-        row, trace = dict(result.row), result.trace
+        row, trace = result.row, result.trace
     except Exception:
         row = error_row(job, traceback.format_exc(), time.perf_counter() - t0)
         trace = None
@@ -185,7 +177,7 @@ def _worker_main(conn: Any, imports: Sequence[str]) -> None:
             except (BrokenPipeError, EOFError, OSError):
                 return
             except Exception:  # the trace or row would not pickle: keep the row, say why
-                outcome.row["trace_error"] = traceback.format_exc()
+                outcome.row.trace_error = traceback.format_exc()
                 conn.send(JobOutcome(outcome.job_id, outcome.row, None))
     finally:
         session.close()

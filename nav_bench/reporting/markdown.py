@@ -18,8 +18,8 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
-from nav_bench.batch.store import OUTCOMES
 from nav_bench.batch.suite import slug
+from nav_bench.episode.row import OUTCOMES
 from nav_bench.errors import InputError
 from nav_bench.reporting import figures as plots
 from nav_bench.reporting.runs import Run, load_runs

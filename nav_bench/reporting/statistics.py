@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from nav_bench.batch.store import OUTCOMES
+from nav_bench.episode.row import OUTCOMES
 from nav_bench.reporting.runs import Run, world_of
 
 Z95 = 1.959963984540054  # two-sided 95% quantile of the standard normal

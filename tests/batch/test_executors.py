@@ -27,7 +27,7 @@ def test_local_pool_survives_raise_hang_and_death(tmp_path):
                              planners="{seek: goal_seek}", limits="{wall_s: 1.0}")
     jobs = expand(load_suite(suite))
     outcomes = list(LocalPool(2).run(jobs, fake_episodes.seed_dependent))
-    rows = {o.row["seed"]: o.row for o in outcomes}
+    rows = {o.row.seed: o.row.to_json() for o in outcomes}
     assert sorted(rows) == [0, 1, 2, 3, 4]
     for row in rows.values():
         check_row(row)

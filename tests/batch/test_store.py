@@ -7,13 +7,8 @@ import math
 
 import pytest
 
-from nav_bench.batch.store import (
-    ROW_FIELDS,
-    ResultsStore,
-    ResultsWarning,
-    RowSchemaError,
-    check_row,
-)
+from nav_bench.batch.store import ResultsStore, ResultsWarning
+from nav_bench.episode.row import ROW_FIELDS, ResultRow, RowSchemaError, check_row
 from nav_bench.errors import InputError
 
 
@@ -69,15 +64,15 @@ def test_missing_fields_are_all_listed():
 
 def test_rows_round_trip_as_strict_json(tmp_path):
     with ResultsStore(tmp_path) as store:
-        store.append(good_row("a"))
-        store.append(good_row("b", min_clearance_m=math.nan, optimal_length_m=math.inf))
+        store.append(ResultRow.from_json(good_row("a")))
+        store.append(ResultRow.from_json(good_row("b", min_clearance_m=math.nan, optimal_length_m=math.inf)))
     lines = (tmp_path / "episodes.jsonl").read_text().splitlines()
     assert len(lines) == 2
     second = json.loads(lines[1], parse_constant=lambda c: pytest.fail(f"non-JSON {c}"))
     assert second["min_clearance_m"] is None and second["optimal_length_m"] is None
     rows = ResultsStore(tmp_path).rows()
     assert [r["job_id"] for r in rows] == ["a", "b"]
-    assert rows[0] == good_row("a")
+    assert rows[0] == {**good_row("a"), "trace": None}  # a stored row always names its trace
     assert ResultsStore(tmp_path).done_ids() == {"a", "b"}
 
 
@@ -85,8 +80,8 @@ def test_rows_round_trip_as_strict_json(tmp_path):
 def test_a_torn_last_line_is_reported_skipped_and_repaired(tmp_path, tail):
     store = ResultsStore(tmp_path)
     with store:
-        store.append(good_row("a"))
-        store.append(good_row("b"))
+        store.append(ResultRow.from_json(good_row("a")))
+        store.append(ResultRow.from_json(good_row("b")))
     path = tmp_path / "episodes.jsonl"
     with open(path, "ab") as f:
         f.write(tail)  # a crash cut this line before its newline
@@ -97,7 +92,7 @@ def test_a_torn_last_line_is_reported_skipped_and_repaired(tmp_path, tail):
     assert path.read_bytes().endswith(b"\n") and len(path.read_bytes().splitlines()) == 2
     assert store.repair() is None
     with store:
-        store.append(good_row("c"))
+        store.append(ResultRow.from_json(good_row("c")))
     assert [r["job_id"] for r in store.rows()] == ["a", "b", "c"]
 
 
@@ -111,8 +106,8 @@ def test_damage_before_the_last_line_is_an_error(tmp_path):
 def test_duplicate_rows_keep_the_first_with_a_warning(tmp_path):
     store = ResultsStore(tmp_path)
     with store:
-        store.append(good_row("a", seed=1))
-        store.append(good_row("a", seed=2))
+        store.append(ResultRow.from_json(good_row("a", seed=1)))
+        store.append(ResultRow.from_json(good_row("a", seed=2)))
     with pytest.warns(ResultsWarning, match=r"episodes\.jsonl:2: second row for job 'a'"):
         rows = store.rows()
     assert [r["seed"] for r in rows] == [1]

@@ -1,7 +1,7 @@
 """Fake episode functions for runner tests: no simulation, deterministic rows.
 
 Each takes an :class:`~nav_bench.batch.suite.EpisodeJob` and the worker's session (unused) and
-returns an object with ``row`` and ``trace`` like :func:`nav_bench.episode.run_episode`'s
+returns an object with ``row`` and ``trace`` like :func:`nav_bench.episode.loop.run_episode`'s
 result. Module-level functions, so worker processes (forkserver, spawn, Dask) can import
 them by name.
 """
@@ -13,28 +13,31 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from nav_bench.batch.suite import EpisodeJob
+from nav_bench.episode import ResultRow, Trace
+from nav_bench.interface import Outcome
 
 
 @dataclass
 class FakeResult:
-    row: dict[str, Any]
+    row: ResultRow
     trace: Any = None
 
 
-def fake_row(job: EpisodeJob, wall_s: float = 0.0) -> dict[str, Any]:
+def fake_row(job: EpisodeJob, wall_s: float = 0.0) -> ResultRow:
     """A valid row whose numbers depend only on the job (seed and parameter set)."""
     success = job.seed % 2 == 0
     length = 10.0 + job.seed
-    return {
-        "world": job.world_name, "world_file": job.world_file, "planner": job.planner.planner,
-        "params": job.params, "params_id": job.params_id, "seed": job.seed, "success": success,
-        "outcome": "reached" if success else "timeout", "time_s": 20.0 + job.seed,
-        "path_length_m": length, "optimal_length_m": 10.0,
-        "spl": 10.0 / length if success else 0.0, "replans": job.seed, "collisions": 0,
-        "min_clearance_m": 0.5, "wall_s": wall_s, "settings": job.settings, "events": {},
-        "error": None, "robot": job.robot_label, "robot_id": job.robot_id,
-    }
+    return ResultRow(
+        world=job.world_name, world_file=job.world_file, planner=job.planner.planner,
+        params=job.params, params_id=job.params_id, seed=job.seed, success=success,
+        outcome=Outcome.REACHED if success else Outcome.TIMEOUT, time_s=20.0 + job.seed,
+        path_length_m=length, optimal_length_m=10.0, spl=10.0 / length if success else 0.0,
+        replans=job.seed, collisions=0, min_clearance_m=0.5, wall_s=wall_s,
+        settings=job.settings, events={}, error=None, robot=job.robot_label,
+        robot_id=job.robot_id)
 
 
 def instant(job: EpisodeJob, session: Any = None) -> FakeResult:
@@ -72,10 +75,6 @@ def seed_dependent(job: EpisodeJob, session: Any = None) -> FakeResult:
 def instant_traced(job: EpisodeJob, session: Any = None) -> FakeResult:
     """Returns at once with a real-size trace (3000 cycles, 6 sonars): the parent's cost of
     storing a 300 s episode's trace is part of the runner overhead."""
-    import numpy as np
-
-    from nav_bench.episode import Trace
-
     rng = np.random.default_rng(job.seed)
     t = np.arange(3000) * 0.1
     pose = np.cumsum(rng.normal(0.0, 0.01, (3000, 3)), axis=0)

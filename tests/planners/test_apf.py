@@ -9,10 +9,10 @@ import math
 
 import numpy as np
 import pytest
-from harness import default_robot, open_room, run, u_world
 
 from nav_bench.interface import Observation
 from nav_bench.planners.apf import PotentialField, attractive_force, repulsive_force
+from nav_bench.testing.harness import default_robot, open_room, run, u_world
 
 
 def test_attraction_is_quadratic_near_and_conic_far() -> None:

@@ -9,10 +9,10 @@ import math
 
 import numpy as np
 import pytest
-from harness import BoxWorld, default_robot, observe, run, u_world, wall_world
 
 from nav_bench.planners.bug2 import FOLLOW, GO, UNREACHABLE, Bug2
 from nav_bench.planners.follow import LEFT, RIGHT, estimate_wall
+from nav_bench.testing.harness import BoxWorld, default_robot, observe, run, u_world, wall_world
 
 
 @pytest.mark.parametrize("seed", [0, 1])

@@ -10,9 +10,9 @@ import math
 
 import numpy as np
 import pytest
-from harness import BoxWorld, run, wall_world
 
 from nav_bench.planners.dstar_lite import DStarLite, DStarLiteSearch, astar, cell_costs, disk
+from nav_bench.testing.harness import BoxWorld, run, wall_world
 
 INF = math.inf
 

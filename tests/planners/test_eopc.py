@@ -13,7 +13,6 @@ import math
 
 import numpy as np
 import pytest
-from harness import BoxWorld, default_robot, run
 
 from nav_bench.errors import InputError, PlannerError
 from nav_bench.interface import Command, Observation
@@ -38,6 +37,7 @@ from nav_bench.planners.eopc import (
     travel_cost,
 )
 from nav_bench.planners.goal_seek import GoalSeek
+from nav_bench.testing.harness import BoxWorld, default_robot, run
 
 FRAME = GridFrame.from_bounds((0.0, 0.0, 4.0, 4.0), 0.1)
 BP = np.array([2.05, 2.05])

@@ -6,10 +6,10 @@ import math
 
 import numpy as np
 import pytest
-from harness import BoxWorld, open_room, run
 
 from nav_bench.errors import InputError, PlannerError
 from nav_bench.planners.goal_seek import GoalSeek
+from nav_bench.testing.harness import BoxWorld, open_room, run
 
 
 def test_reaches_a_goal_in_an_open_room_starting_turned_away() -> None:

@@ -9,10 +9,10 @@ import math
 
 import numpy as np
 import pytest
-from harness import run, u_world, wall_world
 
 from nav_bench.planners.bug2 import Bug2
 from nav_bench.planners.tangent_bug import TangentBug, blocked_interval_edges, range_function
+from nav_bench.testing.harness import run, u_world, wall_world
 
 
 def test_range_function_grows_each_echo_by_the_clearance_radius() -> None:

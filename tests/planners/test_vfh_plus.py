@@ -9,7 +9,6 @@ import math
 
 import numpy as np
 import pytest
-from harness import default_robot, observe, open_room, run, u_world, wall_world
 
 from nav_bench.interface import Observation
 from nav_bench.planners.vfh_plus import (
@@ -22,6 +21,7 @@ from nav_bench.planners.vfh_plus import (
     polar_histogram,
     turning_limits,
 )
+from nav_bench.testing.harness import default_robot, observe, open_room, run, u_world, wall_world
 
 N = 72  # 5 deg sectors
 

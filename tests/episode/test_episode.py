@@ -11,13 +11,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from nav_bench.episode import EpisodeSettings, Trace, run_episode
+from nav_bench.episode import EpisodeSettings, Trace
+from nav_bench.episode.loop import run_episode
 from nav_bench.interface import Command
 from nav_bench.planners.base import Planner
 from nav_bench.specs import PlannerSetSpec, WorldSpec
 from nav_bench.world.load import load_world
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 OPEN_ROOM = ROOT / "worlds" / "paper" / "open_room.yaml"
 
 ROW_FIELDS = {
@@ -36,20 +37,20 @@ def open_room_result():
 
 def test_goal_seek_reaches_the_goal_in_the_open_room(open_room_result):
     row = open_room_result.row
-    assert row["outcome"] == "reached" and row["success"] is True
+    assert row.outcome == "reached" and row.success is True
     # straight diagonal from (1, 1) to (9, 9), stopping within the 0.2 m goal tolerance
     straight = math.hypot(8, 8)
-    assert row["optimal_length_m"] == pytest.approx(straight, rel=0.01)
-    assert row["path_length_m"] == pytest.approx(straight - 0.25, abs=0.15)
-    assert 0.95 <= row["spl"] <= 1.0
-    assert row["collisions"] == 0
+    assert row.optimal_length_m == pytest.approx(straight, rel=0.01)
+    assert row.path_length_m == pytest.approx(straight - 0.25, abs=0.15)
+    assert 0.95 <= row.spl <= 1.0
+    assert row.collisions == 0
     # the room's walls are 1 m from start and goal; the robot's edge 0.18 m closer
-    assert row["min_clearance_m"] == pytest.approx(1.0 - 0.18, abs=0.12)
-    assert row["goal_distance_m"] < 0.3
+    assert row.min_clearance_m == pytest.approx(1.0 - 0.18, abs=0.12)
+    assert row.goal_distance_m < 0.3
 
 
 def test_result_row_has_every_interface_field_with_its_type(open_room_result):
-    row = open_room_result.row
+    row = open_room_result.row.to_json()
     for key, kind in ROW_FIELDS.items():
         assert isinstance(row[key], kind), key
     assert row["params"]["v_max"] > 0  # defaults filled in
@@ -60,8 +61,8 @@ def test_result_row_has_every_interface_field_with_its_type(open_room_result):
 def test_same_seed_gives_the_same_row_but_wall_time(open_room_result):
     world = load_world(OPEN_ROOM)
     again = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=3, world_file=str(OPEN_ROOM))
-    a = {k: v for k, v in open_room_result.row.items() if k != "wall_s"}
-    b = {k: v for k, v in again.row.items() if k != "wall_s"}
+    a = {k: v for k, v in open_room_result.row.to_json().items() if k != "wall_s"}
+    b = {k: v for k, v in again.row.to_json().items() if k != "wall_s"}
     assert a == b
     np.testing.assert_array_equal(open_room_result.trace.true_pose, again.trace.true_pose)
 
@@ -96,11 +97,11 @@ def test_a_reused_session_gives_the_rows_of_fresh_ones():
         assert session.client.getNumBodies() > 0  # still open: the caller owns it
     for (world, planner, settings), again in zip(plays, reused, strict=True):
         fresh = run_episode(world, PlannerSetSpec(planner=planner), seed=5, settings=settings)
-        assert {k: v for k, v in again.row.items() if k != "wall_s"} == \
-            {k: v for k, v in fresh.row.items() if k != "wall_s"}
+        assert {k: v for k, v in again.row.to_json().items() if k != "wall_s"} == \
+            {k: v for k, v in fresh.row.to_json().items() if k != "wall_s"}
         np.testing.assert_array_equal(again.trace.true_pose, fresh.trace.true_pose)
         np.testing.assert_array_equal(again.trace.ranges, fresh.trace.ranges)
-    assert reused[0].row["time_s"] == pytest.approx(8.0)  # the movers world played in full
+    assert reused[0].row.time_s == pytest.approx(8.0)  # the movers world played in full
 
 
 def test_different_seeds_differ_in_noise(open_room_result):
@@ -115,7 +116,7 @@ def test_trace_round_trips_through_npz(open_room_result, tmp_path):
     path = open_room_result.trace.save(tmp_path / "t.npz")
     back = Trace.load(path)
     assert back.world == open_room_result.trace.world
-    assert back.row == json.loads(json.dumps(open_room_result.row))
+    assert back.row == json.loads(json.dumps(open_room_result.row.to_json()))
     np.testing.assert_allclose(back.true_pose, open_room_result.trace.true_pose, atol=1e-5)
 
 
@@ -123,7 +124,7 @@ def test_timeout_and_stuck_outcomes():
     world = load_world(OPEN_ROOM)
     timeout = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=0,
                           settings=EpisodeSettings(time_s=3.0))
-    assert timeout.row["outcome"] == "timeout" and timeout.row["time_s"] == pytest.approx(3.0)
+    assert timeout.row.outcome == "timeout" and timeout.row.time_s == pytest.approx(3.0)
 
     class Idle(Planner):
         name = "idle"
@@ -133,8 +134,8 @@ def test_timeout_and_stuck_outcomes():
 
     stuck = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=0, planner_instance=Idle(),
                         settings=EpisodeSettings(time_s=60.0, stuck_s=4.0))
-    assert stuck.row["outcome"] == "stuck"
-    assert stuck.row["time_s"] == pytest.approx(4.0, abs=0.11)
+    assert stuck.row.outcome == "stuck"
+    assert stuck.row.time_s == pytest.approx(4.0, abs=0.11)
 
 
 def test_a_planner_that_raises_gives_an_error_row():
@@ -146,8 +147,8 @@ def test_a_planner_that_raises_gives_an_error_row():
 
     world = load_world(OPEN_ROOM)
     result = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=0, planner_instance=Broken())
-    assert result.row["outcome"] == "error" and result.row["success"] is False
-    assert "ZeroDivisionError: boom" in result.row["error"]
+    assert result.row.outcome == "error" and result.row.success is False
+    assert "ZeroDivisionError: boom" in result.row.error
 
 
 LONG_WALL_3M = {  # `nav-bench generate long_wall --set wall_length=3.0 ...`, see configs/suites
@@ -161,8 +162,8 @@ def test_eopc_reaches_the_goal_behind_a_long_wall():
     result = run_episode(world, PlannerSetSpec(planner="eopc"), seed=0,
                          settings=EpisodeSettings(time_s=600.0))
     row = result.row
-    assert row["outcome"] == "reached", row
-    assert row["replans"] >= 2 and row["collisions"] == 0
+    assert row.outcome == "reached", row
+    assert row.replans >= 2 and row.collisions == 0
     # it went round one end of the wall (y < 1.5 or y > 4.5) before crossing x = 4
     xy = result.trace.true_pose[:, :2]
     crossing = xy[np.argmax(xy[:, 0] > 4.0)]
@@ -182,9 +183,9 @@ def test_eopc_never_leaves_a_pocket_deeper_than_rr_plus_lambda2():
     xy = result.trace.true_pose[:, :2]
     inside = np.argmax(xy[:, 0] > 6.0)  # first time deep in the pocket
     assert inside > 0
-    assert result.row["outcome"] == "timeout"
+    assert result.row.outcome == "timeout"
     assert xy[inside:, 0].min() > 5.0
-    assert result.row["replans"] > 20
+    assert result.row.replans > 20
 
 
 def test_episode_json_prints_exactly_one_row():
@@ -211,5 +212,5 @@ def test_collisions_are_counted_in_the_row():
 
     result = run_episode(world, PlannerSetSpec(planner="goal_seek"), seed=0, planner_instance=Ram(),
                          settings=EpisodeSettings(time_s=10.0, stuck_s=None))
-    assert result.row["collisions"] == 2
-    assert result.row["min_clearance_m"] < 0.01
+    assert result.row.collisions == 2
+    assert result.row.min_clearance_m < 0.01

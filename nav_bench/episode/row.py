@@ -1,0 +1,187 @@
+"""The result row: one typed record per episode, built once from its trace.
+
+:class:`ResultRow` is what the episode returns, what the batch store writes and reads back
+(validated both ways) and what ``nav-bench episode --json`` prints. Field names and meanings
+are a contract (INTERFACES.md); more fields are welcome. On disk a row is one line of JSON
+(:meth:`ResultRow.to_json`, :meth:`ResultRow.from_json`); keys this version does not know are
+kept in ``extra`` and written back unchanged.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from nav_bench.episode import metrics
+from nav_bench.episode.trace import Trace
+from nav_bench.interface import Outcome
+from nav_bench.world.geometry import polyline_length
+
+
+class RowSchemaError(ValueError):
+    """A result row that does not match :data:`ROW_FIELDS`; lists every problem."""
+
+
+@dataclass
+class ResultRow:
+    """One episode's result. Lengths in m, times in s."""
+
+    world: str
+    world_file: str | None  # the path as given
+    planner: str  # registered planner name
+    params: dict[str, Any]  # the full parameter set, defaults filled in
+    params_id: str  # short stable hash of planner + params
+    seed: int
+    success: bool  # reached the goal within goal_tolerance before the time limit
+    outcome: Outcome
+    time_s: float | None  # simulated seconds until the episode ended (null: never finished)
+    path_length_m: float | None  # length of the true trajectory
+    optimal_length_m: float | None  # shortest collision-free path on the true map
+    spl: float  # success weighted by optimal / max(optimal, travelled)
+    replans: int | None  # re-plans the planner reported
+    collisions: int | None  # distinct contacts with anything but the floor
+    min_clearance_m: float | None  # smallest gap between the robot's edge and true geometry
+    wall_s: float  # wall-clock seconds the episode took
+    robot: str | None = None  # robot (variant) label, e.g. "diffbot[sonar.noise_std=0.02]"
+    robot_id: str | None = None  # stable hash of the robot's settings and URDF content
+    settings: dict[str, Any] = field(default_factory=dict)  # the EpisodeSettings played
+    goal_distance_m: float | None = None  # true distance to the goal at the end
+    odometry_error_m: float | None = None  # true vs odometry position at the end
+    events: dict[str, int] = field(default_factory=dict)  # planner events: count per kind
+    error: str | None = None  # traceback text for outcome "error", else null
+    # set by the batch runner
+    job_id: str | None = None  # stable id of (world, parameter set, robot, seed, limits)
+    label: str | None = None  # the suite's name for the parameter set, e.g. "eopc_rr[RR=0.4]"
+    time_limit_s: float | None = None
+    trace: str | None = None  # traces/<job_id>.npz, relative to the results folder
+    trace_error: str | None = None  # why the trace could not be kept
+    extra: dict[str, Any] = field(default_factory=dict)  # stored keys this version does not know
+
+    # -- built once --------------------------------------------------------------------
+    @classmethod
+    def from_trace(cls, trace: Trace, *, outcome: Outcome, error: str | None, world_file: str | None,
+                   planner: str, params: dict[str, Any], params_id: str, seed: int,
+                   robot: str | None, robot_id: str, settings: dict[str, Any], time_s: float,
+                   robot_radius: float, replans: int, collisions: int, wall_s: float) -> ResultRow:
+        """The row of a played episode: its numbers measured on ``trace``."""
+        world = trace.world
+        xy = trace.true_pose[:, :2]
+        final_true, final_odom = trace.true_pose[-1], trace.odom_pose[-1]
+        travelled = polyline_length(xy)
+        optimal = metrics.optimal_length(world, robot_radius)
+        success = outcome is Outcome.REACHED
+        counts: dict[str, int] = {}
+        for e in trace.events:
+            counts[e["kind"]] = counts.get(e["kind"], 0) + 1
+        return cls(
+            world=world.name, world_file=world_file, planner=planner, params=params,
+            params_id=params_id, seed=int(seed), success=success, outcome=outcome,
+            time_s=round(float(time_s), 6), path_length_m=travelled, optimal_length_m=optimal,
+            spl=metrics.spl(success, optimal, travelled), replans=int(replans),
+            collisions=int(collisions),
+            min_clearance_m=metrics.min_clearance(world, xy, robot_radius, trace.movers),
+            wall_s=wall_s, robot=robot, robot_id=robot_id, settings=settings,
+            goal_distance_m=float(np.hypot(*(final_true[:2] - np.asarray(world.goal, float)))),
+            odometry_error_m=float(np.hypot(*(final_true[:2] - final_odom[:2]))),
+            events=counts, error=error)
+
+    @classmethod
+    def failure(cls, *, world: str, world_file: str | None, planner: str, params: dict[str, Any],
+              params_id: str, seed: int, settings: dict[str, Any], error: str,
+              wall_s: float) -> ResultRow:
+        """The row of an episode that did not finish: outcome ``error``, measurements null."""
+        return cls(world=world, world_file=world_file, planner=planner, params=params,
+                   params_id=params_id, seed=seed, success=False, outcome=Outcome.ERROR,
+                   time_s=None, path_length_m=None, optimal_length_m=None, spl=0.0, replans=None,
+                   collisions=None, min_clearance_m=None, wall_s=wall_s, settings=settings,
+                   error=error)
+
+    # -- JSON --------------------------------------------------------------------------
+    def to_json(self) -> dict[str, Any]:
+        """The row as a JSON object, in the stored key order (batch identity first)."""
+        out: dict[str, Any] = {}
+        if self.job_id is not None:
+            out["job_id"], out["label"] = self.job_id, self.label
+        for name in EPISODE_FIELDS:
+            value = getattr(self, name)
+            if value is None and name in _MEASURED_AT_THE_END:
+                continue  # an episode that never finished has no final pose
+            out[name] = value.value if isinstance(value, Outcome) else value
+        if self.time_limit_s is not None:
+            out["time_limit_s"] = self.time_limit_s
+        if self.job_id is not None:
+            out["trace"] = self.trace
+        if self.trace_error is not None:
+            out["trace_error"] = self.trace_error
+        out.update(self.extra)
+        return out
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> ResultRow:
+        """A stored row; :class:`RowSchemaError` lists every way it is not a valid row."""
+        check_row(data)
+        known = {k: v for k, v in data.items() if k in _FIELD_NAMES}
+        known["outcome"] = Outcome(known["outcome"])
+        return cls(**known, extra={k: v for k, v in data.items() if k not in _FIELD_NAMES})
+
+
+_MEASURED_AT_THE_END = frozenset({"goal_distance_m", "odometry_error_m"})
+_FIELD_NAMES = frozenset(f.name for f in dataclasses.fields(ResultRow)) - {"extra"}
+EPISODE_FIELDS = tuple(f.name for f in dataclasses.fields(ResultRow)
+                       if f.name not in {"job_id", "label", "time_limit_s", "trace", "trace_error",
+                                         "extra"})
+
+# What a stored row must hold (INTERFACES.md plus the runner's fields): field -> accepted JSON
+# types. ``float`` fields accept JSON integers too (``1`` and ``1.0`` are the same in JSON).
+ROW_FIELDS: dict[str, tuple[type, ...]] = {
+    "job_id": (str,), "label": (str,), "world": (str,), "world_file": (str,), "planner": (str,),
+    "params": (dict,), "params_id": (str,), "robot": (str,), "robot_id": (str,), "seed": (int,),
+    "success": (bool,), "outcome": (str,), "time_s": (float,), "path_length_m": (float,),
+    "optimal_length_m": (float, type(None)), "spl": (float,), "replans": (int,),
+    "collisions": (int,), "min_clearance_m": (float, type(None)), "wall_s": (float,),
+    "settings": (dict,), "error": (str, type(None)), "events": (dict,),
+}
+
+# Measured quantities an ``error`` row may leave null: the episode never finished.
+ERROR_NULLABLE = frozenset({"time_s", "path_length_m", "replans", "collisions", "min_clearance_m"})
+OUTCOMES = tuple(o.value for o in Outcome)  # the words a row's outcome may take, in report order
+
+
+def row_problems(row: dict[str, Any]) -> list[str]:
+    """Every way ``row`` differs from :data:`ROW_FIELDS` and the row's rules (empty: valid)."""
+    problems = []
+    is_error = row.get("outcome") == Outcome.ERROR.value
+    for name, types in ROW_FIELDS.items():
+        if name not in row:
+            problems.append(f"missing field {name!r}")
+            continue
+        value = row[name]
+        if value is None and is_error and name in ERROR_NULLABLE:
+            continue
+        accepted = types + ((int,) if float in types else ())
+        # bool is an int subclass in Python but not a number in a row
+        if not isinstance(value, accepted) or (isinstance(value, bool) and bool not in types):
+            expected = " or ".join("null" if t is type(None) else t.__name__ for t in types)
+            problems.append(f"field {name!r} should be {expected}, got {value!r:.60}")
+    if not problems:
+        if row["outcome"] not in OUTCOMES:
+            problems.append(f"outcome {row['outcome']!r} is not one of {', '.join(OUTCOMES)}")
+        if row["success"] != (row["outcome"] == Outcome.REACHED.value):
+            problems.append(f"success {row['success']} disagrees with outcome {row['outcome']!r}")
+        if (row["error"] is not None) != is_error:
+            problems.append("error text must be present exactly when outcome is 'error'")
+        if not 0.0 <= row["spl"] <= 1.0:
+            problems.append(f"spl {row['spl']} is outside [0, 1]")
+        if row["seed"] < 0:
+            problems.append(f"seed {row['seed']} is negative")
+    return problems
+
+
+def check_row(row: dict[str, Any]) -> None:
+    """Raise :class:`RowSchemaError` listing every problem of ``row``; return if it is valid."""
+    problems = row_problems(row)
+    if problems:
+        raise RowSchemaError("; ".join(problems))

@@ -1,0 +1,50 @@
+"""How an episode is played: rates, limits and tolerances, each with its default in one place."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from nav_bench.errors import InputError
+from nav_bench.specs import WorldSpec
+
+
+@dataclass(frozen=True)
+class EpisodeSettings:
+    """How an episode is played. Times in s, distances in m, rates in Hz."""
+
+    control_hz: float = 10.0  # planner cycles per second (the paper's control cycle)
+    physics_hz: float = 240.0  # physics steps per second
+    time_s: float | None = None  # simulated time limit; None: 15 s per metre of (sx + sy), >= 60 s
+    stuck_s: float | None = 30.0  # "stuck" if the robot stays within stuck_radius this long; None: off
+    stuck_radius: float = 0.2  # m
+    # m, true distance to the goal that counts as reached. Planners stop at their own tolerance
+    # (0.2 m by default) judged on odometry; the extra 0.1 m absorbs odometry drift, so success
+    # measures navigation and a default-noise robot that stopped "at" the goal is not "stuck".
+    goal_tolerance: float = 0.3
+    record_trace: bool = True  # keep per-cycle arrays (needed for plots and traces on disk)
+
+    def __post_init__(self) -> None:
+        if self.control_hz <= 0 or self.physics_hz <= 0:
+            raise InputError("control_hz and physics_hz must be positive")
+        if self.physics_hz < self.control_hz:
+            raise InputError("physics_hz must be at least control_hz")
+        if self.time_s is not None and self.time_s <= 0:
+            raise InputError("time_s must be positive")
+        if self.goal_tolerance <= 0:
+            raise InputError("goal_tolerance must be positive")
+
+    def time_limit(self, world: WorldSpec) -> float:
+        """The time limit (s) for ``world``."""
+        if self.time_s is not None:
+            return float(self.time_s)
+        return max(60.0, 15.0 * (world.size[0] + world.size[1]))
+
+    @property
+    def steps_per_cycle(self) -> int:
+        """Physics steps per control cycle."""
+        return max(1, round(self.physics_hz / self.control_hz))
+
+    @property
+    def cycle_s(self) -> float:
+        """Simulated seconds per control cycle (whole physics steps)."""
+        return self.steps_per_cycle / self.physics_hz
