@@ -35,6 +35,7 @@ BUILTIN: dict[str, str] = {
     "dstar_lite": "nav_bench.planners.dstar_lite:DStarLite",
     "vfh_plus": "nav_bench.planners.vfh_plus:VFHPlus",
     "apf": "nav_bench.planners.apf:PotentialField",
+    "policy": "nav_bench.planners.policy:PolicyPlanner",
 }
 
 
