@@ -11,7 +11,9 @@ by :mod:`nav_bench.world.load`, a parameter set (schema, then the planner's para
 from __future__ import annotations
 
 import difflib
+import functools
 import math
+import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -233,6 +235,29 @@ class RobotSpec(Strict):
 def default_robot_file() -> Path:
     """``robots/diffbot.yaml`` of the project (or of the installed package data)."""
     return project_file("robots/diffbot.yaml")
+
+
+@functools.cache
+def default_robot_radius() -> float:
+    """Body radius (m) of the default robot, read from its URDF: the circle about the root
+    link's origin that holds the link's collision cylinders and spheres. The simulator reads
+    the same number from the same shapes; world tools without a simulator (generators,
+    importers, difficulty) default their ``robot_radius`` to it."""
+    urdf = load_robot().urdf_path
+    root = ET.parse(urdf).getroot()
+    children = {j.find("child").get("link") for j in root.iter("joint")}
+    base = next(link for link in root.iter("link") if link.get("name") not in children)
+    radius = 0.0
+    for shape in base.iter("collision"):
+        origin = shape.find("origin")
+        x, y = ([float(v) for v in origin.get("xyz", "0 0 0").split()][:2]
+                if origin is not None else (0.0, 0.0))
+        geometry = next(iter(shape.find("geometry")))
+        if geometry.tag not in ("cylinder", "sphere"):
+            raise SpecError(f"the base link's collision {geometry.tag} gives no radius here; "
+                            f"pass robot_radius explicitly", file=urdf)
+        radius = max(radius, math.hypot(x, y) + float(geometry.get("radius")))
+    return radius
 
 
 def load_robot(path: str | Path | None = None, overrides: dict[str, Any] | None = None) -> RobotSpec:

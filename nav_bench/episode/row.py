@@ -73,9 +73,6 @@ class ResultRow:
         travelled = polyline_length(xy)
         optimal = metrics.optimal_length(world, robot_radius)
         success = outcome is Outcome.REACHED
-        counts: dict[str, int] = {}
-        for e in trace.events:
-            counts[e["kind"]] = counts.get(e["kind"], 0) + 1
         return cls(
             world=world.name, world_file=world_file, planner=planner, params=params,
             params_id=params_id, seed=int(seed), success=success, outcome=outcome,
@@ -86,7 +83,7 @@ class ResultRow:
             wall_s=wall_s, robot=robot, robot_id=robot_id, settings=settings,
             goal_distance_m=float(np.hypot(*(final_true[:2] - np.asarray(world.goal, float)))),
             odometry_error_m=float(np.hypot(*(final_true[:2] - final_odom[:2]))),
-            events=counts, error=error)
+            events=count_events(trace.events), error=error)
 
     @classmethod
     def failure(cls, *, world: str, world_file: str | None, planner: str, params: dict[str, Any],
@@ -126,6 +123,21 @@ class ResultRow:
         known = {k: v for k, v in data.items() if k in _FIELD_NAMES}
         known["outcome"] = Outcome(known["outcome"])
         return cls(**known, extra={k: v for k, v in data.items() if k not in _FIELD_NAMES})
+
+
+def count_events(events: list[dict[str, Any]]) -> dict[str, int]:
+    """Planner events by kind, for the row's ``events``. An event whose data names a
+    ``trigger`` (EO/PC's re-plans: ``eo_stop``, ``blocked_path``) is also counted as
+    ``kind.trigger``, so ``replan`` stays the total and ``replan.eo_stop`` one of its parts."""
+    counts: dict[str, int] = {}
+    for e in events:
+        keys = [e["kind"]]
+        trigger = (e.get("data") or {}).get("trigger")
+        if isinstance(trigger, str):
+            keys.append(f"{e['kind']}.{trigger}")
+        for key in keys:
+            counts[key] = counts.get(key, 0) + 1
+    return counts
 
 
 _MEASURED_AT_THE_END = frozenset({"goal_distance_m", "odometry_error_m"})

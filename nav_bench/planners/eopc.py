@@ -5,23 +5,30 @@ Two behaviours share the robot (paper Sec. 2):
 * **EO** (obstacle avoidance, :func:`eo_speed`) sets only the translation speed ``v`` from
   the front sonars: full speed beyond ``lambda1``, a linear ramp down to ``lambda2``, a stop
   below ``lambda2``.
-* **PC** (path re-planning, :func:`choose_neighbour`) runs only when EO has stopped the
-  robot. The stop position is the *breakpoint*; PC scores ``n_neighbors`` points on a
-  circle of radius ``RR`` around it with the occupancy grid PMO and the trajectory grid
-  PMT, and commits to one, ``Pi``. The robot turns in place toward ``Pi``, drives there
-  (EO still controls ``v``), then heads for the goal again.
+* **PC** (path re-planning, :func:`choose_neighbour`) runs at a *breakpoint*. It scores
+  ``n_neighbors`` points on a circle of radius ``RR`` around it with the occupancy grid PMO
+  and the trajectory grid PMT, and commits to one, ``Pi``. The robot turns in place toward
+  ``Pi`` and drives there (EO still controls ``v``).
+
+When PC runs is ``replan_on`` (PAPER-NOTES, "When PC runs: two readings"):
+
+* ``blocked_path`` (default): a breakpoint is (a) where EO stops the robot, or (b) the
+  arrival at ``Pi`` while the straight path from there to the goal is blocked on PMO
+  (:func:`goal_path_blocked`; unknown cells never block). At (a) ``theta = 0`` is the
+  robot's heading, at (b) the direction of the segment just driven (previous breakpoint ->
+  ``Pi``: the old path). Near obstacles the path is a chain of breakpoints ``RR`` apart,
+  each chosen by F; when the line to the goal clears, the robot heads for the goal.
+* ``stop``: PC runs only where EO stops the robot; after ``Pi`` the robot heads for the
+  goal whatever PMO shows. A property of this reading, not of the code: in a pocket whose
+  far wall lies across every line to the goal and that is deeper than about
+  ``RR + lambda2``, every such line ends on that wall again, so the breakpoints cannot leave
+  the pocket; PMT then only spreads them along it.
 
 Every interpretation follows ``PAPER-NOTES.md``; where the notes leave a choice open it
 is a parameter, with the reason next to it in :attr:`EOPC.params`.
 
-The PC decision is a pure function of the two grids and the breakpoint, split into small
-cost-term functions so it can be tested on hand-built grids without a simulator.
-
-A property of the rules, not of this code: after ``Pi`` the robot heads straight for the
-goal again, and ``Pi`` is never more than ``RR`` from the breakpoint. In a pocket whose far
-wall lies across the line to the goal and that is deeper than about ``RR + lambda2``, every
-such line ends on that wall again, so unless EO stops the robot on the way out (narrow
-pockets) the breakpoints cannot leave the pocket; PMT then only spreads them along it.
+The PC decision and the blocked-path check are pure functions of the grids, so they can be
+tested on hand-built grids without a simulator.
 """
 
 from __future__ import annotations
@@ -42,6 +49,11 @@ from nav_bench.planners.base import Param, Planner
 
 FREE, UNSURE, HIGH = 0, 50, 100  # the three levels of RC, RI and the risk index r
 IPO_MODES = ("evidence", "raw")
+REPLAN_ON = ("blocked_path", "stop")  # when PC runs (PAPER-NOTES, "When PC runs")
+BLOCKED_BY = ("segment", "corridor")  # how "the path to the goal is blocked" is judged
+# What made PC run, and what theta = 0 was measured from, in each ``replan`` event
+TRIGGER_EO_STOP, TRIGGER_BLOCKED_PATH = "eo_stop", "blocked_path"
+THETA_FROM_HEADING, THETA_FROM_OLD_PATH = "heading", "old_path"
 
 
 # ============================================================================ EO: the speed rule
@@ -258,6 +270,73 @@ def blocked_segments(pmo: np.ndarray, frame: GridFrame, start: np.ndarray, point
     return np.any((occupied | ~inside) & ~own, axis=1)
 
 
+def crossed_cells(frame: GridFrame, start: np.ndarray, end: np.ndarray) -> np.ndarray:
+    """(N, 2) row, col of every cell the segment ``start -> end`` (m) passes through, in order.
+
+    Exact (a supercover but for cells touched only at a corner): the segment is cut where it
+    crosses a grid line and each piece's midpoint names its cell, so a segment of length L
+    costs about ``L / cell * 2`` points whatever the grid's size. Cells may lie outside the
+    grid (see ``frame.contains``).
+    """
+    start, end = np.asarray(start, dtype=float)[:2], np.asarray(end, dtype=float)[:2]
+    x0, y0 = frame.bounds[0], frame.bounds[1]
+    cuts = [np.array([0.0, 1.0])]
+    for axis, origin in ((0, x0), (1, y0)):
+        a, b = start[axis], end[axis]
+        if abs(b - a) > 1e-12:
+            lo, hi = sorted(((a - origin) / frame.cell, (b - origin) / frame.cell))
+            lines = np.arange(math.floor(lo) + 1, math.ceil(hi)) * frame.cell + origin
+            cuts.append((lines - a) / (b - a))
+    t = np.unique(np.concatenate(cuts))
+    mid = (t[:-1] + t[1:]) / 2
+    return frame.world_to_cell(start[None, :] + mid[:, None] * (end - start)[None, :])
+
+
+def goal_path_blocked(pmo: np.ndarray, frame: GridFrame, start: np.ndarray, goal: np.ndarray,
+                      occupied_above: float, half_width: float = 0.0) -> bool:
+    """Is the straight path ``start -> goal`` blocked on PMO (any crossed cell with RC = 100)?
+
+    ``half_width`` 0 judges the cells the segment itself crosses (:func:`crossed_cells`);
+    ``half_width > 0`` judges a corridor that wide on each side (the robot's radius for
+    ``blocked_by: corridor``): the cells crossed by parallel lines at most half a cell apart
+    across it. Unknown cells and cells outside the grid never block (the freespace
+    assumption, as in D* Lite). The start cell is skipped: the robot stands in it, so an
+    occupied reading there is sonar noise.
+
+    Args:
+        pmo: (H, W) occupancy 0..100. start, goal: (2,) m. occupied_above: RC = 100 above
+            this. half_width: m.
+    """
+    start = np.asarray(start, dtype=float)[:2]
+    goal = np.asarray(goal, dtype=float)[:2]
+    delta = goal - start
+    length = float(np.hypot(*delta))
+    offsets = [0.0]
+    if half_width > 0 and length > 0:
+        lanes = max(3, 2 * math.ceil(half_width / (frame.cell / 2)) + 1)
+        offsets = list(np.linspace(-half_width, half_width, lanes))
+    normal = np.array([-delta[1], delta[0]]) / length if length > 0 else np.zeros(2)
+    cells = np.concatenate([crossed_cells(frame, start + o * normal, goal + o * normal) for o in offsets])
+    rows, cols = cells[:, 0], cells[:, 1]
+    start_cell = frame.world_to_cell(start)
+    keep = frame.contains(rows, cols) & ~((rows == start_cell[0]) & (cols == start_cell[1]))
+    return bool(np.any(pmo[rows[keep], cols[keep]] > occupied_above))
+
+
+def old_path_heading(previous_breakpoint: np.ndarray | None, point: np.ndarray,
+                     fallback: float) -> float:
+    """Direction (rad) of the segment just driven, ``previous_breakpoint -> point``: the "old
+    path" that ``theta = 0`` follows at a blocked-path breakpoint. ``fallback`` (the robot's
+    heading) when there is no previous breakpoint or the two points coincide.
+    """
+    if previous_breakpoint is None:
+        return fallback
+    dx, dy = (np.asarray(point, dtype=float)[:2] - np.asarray(previous_breakpoint, dtype=float)[:2])
+    if math.hypot(dx, dy) < 1e-9:
+        return fallback
+    return math.atan2(dy, dx)
+
+
 def term_scales(settings: PCSettings, breakpoint: np.ndarray, goal: np.ndarray,
                 region_size: np.ndarray) -> dict[str, np.ndarray | float]:
     """Largest possible value of each cost term (what ``normalize`` divides by).
@@ -421,9 +500,15 @@ class EOPC(Planner):
     """The paper's EO/PC planner (see the module docstring and PAPER-NOTES.md).
 
     Modes: ``goal`` (drive toward the goal), ``turn`` (turn in place by Y toward Pi),
-    ``to_point`` (drive toward Pi). Per control cycle (paper's global algorithm):
-    update PMO and PMT (step 1.1) -> goal reached? (1.2) -> EO stopped the robot? then PC
+    ``to_point`` (drive toward Pi), ``at_point`` (arrived at Pi with the path to the goal
+    blocked: PC is due; only with ``replan_on: blocked_path``). Per control cycle (paper's
+    global algorithm): update PMO and PMT (step 1.1) -> goal reached? (1.2) -> at a
+    breakpoint (EO stopped the robot, or Pi reached with the goal path blocked)? then PC
     (1.3-1.9) -> EO speed (2) -> command (3).
+
+    Each ``replan`` event carries ``trigger`` (``eo_stop`` or ``blocked_path``) and
+    ``theta_from`` (``heading`` or ``old_path``) with ``heading`` the direction (rad) that
+    ``theta = 0`` points to.
 
     A stop right where the previous re-plan was made (within ``retry_radius``: the robot
     turned toward Pi but EO still sees something closer than ``lambda2``) is a new
@@ -490,6 +575,13 @@ class EOPC(Planner):
               "PMO as stored ('raw', unknown cells count 50)", choices=IPO_MODES),
         Param("exclude_blocked_segments", True, "-", "a neighbour whose segment from the breakpoint "
               "crosses an RC = 100 cell is not a candidate (the robot could not drive there)"),
+        Param("replan_on", "blocked_path", "-", "when PC runs: 'blocked_path' where EO stops the robot "
+              "and on arriving at Pi while the straight path to the goal is blocked on PMO (theta = 0 "
+              "along the segment just driven); 'stop' only where EO stops the robot, heading for the goal "
+              "after every Pi (PAPER-NOTES, 'When PC runs')", choices=REPLAN_ON),
+        Param("blocked_by", "segment", "-", "how 'the path to the goal is blocked' is judged: 'segment' "
+              "the PMO cells along the line Pi -> goal, 'corridor' the cells within the robot's radius of "
+              "it; only RC = 100 cells block, unknown cells never do", choices=BLOCKED_BY),
         Param("retry_radius", 0.1, "m", "a stop within this of the previous breakpoint is the same spot: "
               "points already tried there are not candidates (no zero-motion loops)", minimum=0.0),
         # -- the grids (PMO sensor model, PMT)
@@ -541,6 +633,8 @@ class EOPC(Planner):
         self._blocked = 0
         self._reached = False
         self._breakpoint: np.ndarray | None = None
+        self._chain_from: np.ndarray | None = None  # the breakpoint the current Pi was chosen at
+        self._corridor = obs.robot.radius if p["blocked_by"] == "corridor" else 0.0
 
     def act(self, obs: Observation) -> Command:
         p = self.p
@@ -567,7 +661,11 @@ class EOPC(Planner):
         if self.mode == "to_point":
             assert self._target is not None
             if math.hypot(self._target[0] - x, self._target[1] - y) <= p["waypoint_tolerance"]:
-                self.mode = "goal"
+                self.mode = "at_point" if self._goal_path_blocked(pose) else "goal"
+        if self.mode == "at_point":  # breakpoint (b): Pi reached, the straight path is blocked
+            assert self._target is not None
+            old_path = old_path_heading(self._chain_from, self._target, yaw)
+            return self._replan(obs, pose, TRIGGER_BLOCKED_PATH, old_path)
         target = self._target if self.mode == "to_point" and self._target is not None else self._goal
         error = wrap_angle(math.atan2(target[1] - y, target[0] - x) - yaw)
         if abs(error) > math.radians(p["align_deg"]):
@@ -575,35 +673,53 @@ class EOPC(Planner):
             return Command(0.0, steer(error, p["k_heading"], self._omega_max))
         d = front_distance(np.asarray(obs.ranges, dtype=float), obs.robot.sonar, self._front)
         if d < p["lambda2"]:  # Step 1.3: EO has stopped the robot -> PC
-            return self._replan(obs, pose)
+            return self._replan(obs, pose, TRIGGER_EO_STOP, yaw)
         v = eo_speed(d, self._v_max, p["lambda1"], p["lambda2"], p["v_min"])  # Step 2
         return Command(v * math.cos(error), steer(error, p["k_heading"], self._omega_max))
 
-    def _replan(self, obs: Observation, pose: np.ndarray) -> Command:
-        """Steps 1.4-1.10 at a breakpoint: score neighbours, commit to Pi, start turning by Y."""
+    def _goal_path_blocked(self, pose: np.ndarray) -> bool:
+        """At the arrival at Pi: is the straight path to the goal blocked on PMO? Always False
+        with ``replan_on: stop`` (the robot then heads for the goal whatever PMO shows)."""
+        if self.p["replan_on"] != "blocked_path":
+            return False
+        return goal_path_blocked(self.pmo.values(copy=False), self.pmo.frame, pose[:2], self._goal,
+                                 self.settings.occupied_above, self._corridor)
+
+    def _replan(self, obs: Observation, pose: np.ndarray, trigger: str, theta_zero: float) -> Command:
+        """Steps 1.4-1.10 at a breakpoint: score neighbours, commit to Pi, start turning by Y.
+
+        ``trigger`` is what made PC run (``eo_stop`` or ``blocked_path``); ``theta_zero``
+        (rad) the direction theta = 0 points to: the heading at an EO stop, the old path at
+        a blocked-path breakpoint.
+        """
         p = self.p
         bp = pose[:2].copy()
+        yaw = float(pose[2])
         if self._spot is None or math.hypot(*(bp - self._spot)) > p["retry_radius"]:
             self._spot, self._tried, self._blocked = bp, [], 0  # a new spot: nothing tried here
         self._breakpoint = bp
         decision = choose_neighbour(
-            self.pmo.values(copy=False), self.pmt.counts, self.pmo.frame, bp, float(pose[2]),
+            self.pmo.values(copy=False), self.pmt.counts, self.pmo.frame, bp, theta_zero,
             self._goal, self.settings, tried=self._tried,
             force=self._blocked >= p["max_blocked_cycles"])
         if decision.chosen is None:  # tier 3: keep the steering angle at zero, wait
             self._blocked += 1
             self.emit("blocked", obs.t, breakpoint=[float(v) for v in bp], count=self._blocked,
-                      risk=[int(v) for v in decision.r])
+                      risk=[int(v) for v in decision.r], trigger=trigger)
             return Command(0.0, 0.0)
         self._blocked = 0
         data = decision.event_data()
         data["high_iteration_risk"] = bool(decision.RI[decision.chosen] >= self.settings.alpha_I)
         data["retry"] = len(self._tried)
+        data["trigger"] = trigger
+        data["theta_from"] = THETA_FROM_HEADING if trigger == TRIGGER_EO_STOP else THETA_FROM_OLD_PATH
         self.emit("replan", obs.t, **data)
         target = decision.points[decision.chosen].copy()
         self._tried.append(target)
-        self._target = target
-        self._turn_goal, self._turned, self._last_yaw = decision.turn, 0.0, float(pose[2])
+        self._chain_from, self._target = bp, target
+        # Y: the turn from the robot's own yaw to Pi (at an EO stop theta = 0 is that yaw)
+        turn = decision.turn if trigger == TRIGGER_EO_STOP else wrap_angle(theta_zero + decision.turn - yaw)
+        self._turn_goal, self._turned, self._last_yaw = turn, 0.0, yaw
         self.mode = "turn"
         if abs(self._turn_goal) <= math.radians(p["turn_tolerance_deg"]):
             self.mode = "to_point"  # Y = 0: nothing to turn; drive (EO decides) from next cycle
@@ -613,7 +729,8 @@ class EOPC(Planner):
     def debug_state(self) -> dict[str, Any]:
         if not hasattr(self, "pmo"):
             return {}
-        target = self._target if self.mode in ("turn", "to_point") and self._target is not None else self._goal
+        target = (self._target if self.mode in ("turn", "to_point", "at_point") and self._target is not None
+                  else self._goal)
         return {
             "pmo": self.pmo.values(),
             "pmt": self.pmt.counts.copy(),

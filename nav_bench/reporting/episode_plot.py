@@ -25,6 +25,15 @@ from nav_bench.world.draw import draw_world, obstacle_patches
 
 RISK_COLORS = {0: "#2ca02c", 50: "#ff9f1c", 100: "#d62728"}  # SAFE green, medium orange, high red
 TRUE_COLOR, ODOM_COLOR = "#1f4e9c", "#e377c2"
+CHAIN_COLOR = "#111111"
+# How each kind of breakpoint is marked (paper, Fig. 4): where EO stopped the robot, and where PC
+# ran without a stop (Pi reached with the straight path to the goal blocked on PMO)
+BREAKPOINT_STYLE = {
+    "eo_stop": {"marker": "s", "facecolor": "#d62728", "edgecolor": "black", "label": "breakpoint: EO stop"},
+    "blocked_path": {"marker": "D", "facecolor": "white", "edgecolor": "black",
+                     "label": "breakpoint: PC, path blocked (no stop)"},
+}
+MAX_NEIGHBOUR_SETS = 40  # neighbours are drawn for the last this-many re-plans (more only clutter)
 
 
 def event_fields(event: Any) -> tuple[str, float, dict[str, Any]]:
@@ -42,6 +51,47 @@ def replans(events: Iterable[Any]) -> list[dict[str, Any]]:
         if kind == "replan" and "breakpoint" in data and "neighbours" in data:
             out.append({"t": t, **data})
     return out
+
+
+def chain_vertices(plans: list[dict[str, Any]]) -> np.ndarray:
+    """(2N, 2) the planned path as a chain: breakpoint 1, Pi 1, breakpoint 2, Pi 2, ... (m).
+
+    After a re-plan the path is breakpoint -> Pi -> goal; the chain joins each Pi to the next
+    breakpoint, which is Pi itself (a blocked-path breakpoint) or where EO stopped the robot
+    on the way on. Re-plans without a chosen point are skipped.
+    """
+    pts: list[list[float]] = []
+    for plan in plans:
+        chosen = plan.get("chosen")
+        if chosen is None:
+            continue
+        pts.append([float(v) for v in plan["breakpoint"]])
+        pts.append([float(v) for v in plan["neighbours"][int(chosen)]])
+    return np.asarray(pts, dtype=float).reshape(-1, 2)
+
+
+def label_step(n: int) -> int:
+    """Number every k-th breakpoint so that at most about 40 numbers are drawn."""
+    return max(1, -(-n // 40))
+
+
+def draw_chain(ax: Axes, plans: list[dict[str, Any]], marker_size: float = 16,
+               numbers: bool = True) -> None:
+    """The chain of breakpoints as the paper's Fig. 4 draws it: the segments breakpoint -> Pi
+    -> next breakpoint, each breakpoint numbered in order and marked by what made PC run
+    (EO stop: filled square; path blocked without a stop: hollow diamond)."""
+    chain = chain_vertices(plans)
+    if len(chain):
+        ax.plot(chain[:, 0], chain[:, 1], color=CHAIN_COLOR, lw=0.8, zorder=6)
+    step = label_step(len(plans))
+    for k, plan in enumerate(plans, start=1):
+        bx, by = (float(v) for v in plan["breakpoint"])
+        style = BREAKPOINT_STYLE.get(str(plan.get("trigger", "eo_stop")), BREAKPOINT_STYLE["eo_stop"])
+        ax.scatter([bx], [by], s=marker_size * 1.6, marker=style["marker"], facecolors=style["facecolor"],
+                   edgecolors=style["edgecolor"], linewidths=0.7, zorder=8)
+        if numbers and (k % step == 0 or k == 1 or k == len(plans)):
+            ax.annotate(str(k), (bx, by), xytext=(3, 3), textcoords="offset points", fontsize=6,
+                        zorder=9, color=CHAIN_COLOR)
 
 
 def grid_extent(state: dict[str, Any]) -> list[float]:
@@ -72,9 +122,10 @@ def draw_pmt(ax: Axes, state: dict[str, Any]) -> Any:
 
 
 def draw_replans(ax: Axes, plans: list[dict[str, Any]], marker_size: float = 16) -> None:
-    """Each breakpoint (x), its neighbours coloured by risk (hollow: not a candidate), the choice."""
-    for plan in plans:
-        bx, by = plan["breakpoint"]
+    """The chain of breakpoints (:func:`draw_chain`) and, for the last ``MAX_NEIGHBOUR_SETS``
+    re-plans, the neighbours coloured by risk (hollow: not a candidate) and the choice (star)."""
+    draw_chain(ax, plans, marker_size)
+    for plan in plans[-MAX_NEIGHBOUR_SETS:]:
         pts = np.asarray(plan["neighbours"], dtype=float)
         risk = plan.get("risk", [100] * len(pts))
         cand = plan.get("candidate", [True] * len(pts))
@@ -89,10 +140,8 @@ def draw_replans(ax: Axes, plans: list[dict[str, Any]], marker_size: float = 16)
         chosen = plan.get("chosen")
         if chosen is not None:
             cx, cy = pts[int(chosen)]
-            ax.plot([bx, cx], [by, cy], color="black", lw=0.8, zorder=6)
             ax.scatter([cx], [cy], s=marker_size * 4, marker="*", facecolors=colors[int(chosen)],
                        edgecolors="black", linewidths=0.6, zorder=7)
-        ax.scatter([bx], [by], s=marker_size * 2, marker="x", color="black", linewidths=1.2, zorder=7)
 
 
 def draw_paths(ax: Axes, trace: Any, light: bool = False) -> None:
@@ -121,8 +170,12 @@ def episode_title(trace: Any) -> str:
                      float(np.hypot(*np.diff(true[:, :2], axis=0).T).sum()) if len(true) > 1 else 0.0)
     n_replans = row.get("replans", sum(event_fields(e)[0] == "replan" for e in trace.events))
     seed = f", seed {row['seed']}" if "seed" in row else ""
+    events = row.get("events") or {}
+    stops = events.get("replan.eo_stop")
+    split = (f" ({stops} at EO stops, {events.get('replan.blocked_path', 0)} on a blocked path)"
+             if stops is not None or "replan.blocked_path" in events else "")
     return (f"{world} - {planner}{seed}: {outcome} after {t:.1f} s, "
-            f"path {length:.1f} m, {n_replans} re-plans")
+            f"path {length:.1f} m, {n_replans} re-plans{split}")
 
 
 def legend_handles(has_grids: bool, has_plans: bool) -> list[Line2D]:
@@ -134,7 +187,9 @@ def legend_handles(has_grids: bool, has_plans: bool) -> list[Line2D]:
     ]
     if has_plans:
         handles += [
-            Line2D([], [], color="black", marker="x", ls="none", label="breakpoint"),
+            *[Line2D([], [], marker=st["marker"], mfc=st["facecolor"], mec=st["edgecolor"], color="black",
+                     ls="none", label=st["label"]) for st in BREAKPOINT_STYLE.values()],
+            Line2D([], [], color=CHAIN_COLOR, lw=0.8, label="planned path: breakpoint -> Pi (numbered)"),
             *[Line2D([], [], color=c, marker="o", ls="none", label=f"neighbour, risk {r}")
               for r, c in RISK_COLORS.items()],
             Line2D([], [], color="#7f7f7f", marker="o", mfc="none", ls="none",
@@ -171,6 +226,9 @@ def plot_episode(trace: Any, path: str | Path, title: str | None = None, dpi: in
     draw_world(ax, trace.world, faint=True)
     draw_paths(ax, trace)
     draw_replans(ax, plans, marker_size=16 if len(plans) <= 12 else 9)
+    if len(plans) > MAX_NEIGHBOUR_SETS:
+        ax.text(0.01, 0.01, f"neighbours of the last {MAX_NEIGHBOUR_SETS} of {len(plans)} re-plans",
+                transform=ax.transAxes, fontsize=7, zorder=10)
     ax.set_title("occupancy PMO and re-plans" if has_grids else "trajectory", fontsize=10)
 
     if ncols == 2:
@@ -183,7 +241,7 @@ def plot_episode(trace: Any, path: str | Path, title: str | None = None, dpi: in
 
     fig.suptitle(title or episode_title(trace), fontsize=11)
     fig.legend(handles=legend_handles(has_grids, bool(plans)), loc="outside lower center",
-               ncol=min(5, 4 + bool(plans)), fontsize=8, frameon=False)
+               ncol=4, fontsize=8, frameon=False)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=dpi)

@@ -1,8 +1,9 @@
 """A live map of an episode, redrawn every ``every_s`` of simulated time (the paper: 0.5 s).
 
 ``LiveView`` shows the true map faint, the planner's occupancy grid (when its
-``debug_state()`` has ``pmo``), the trajectory so far, the robot, and the latest re-plan's
-neighbours coloured by risk. It draws to a window (``show=True``, needs an interactive
+``debug_state()`` has ``pmo``), the trajectory so far, the robot, the chain of re-plans so far
+(numbered breakpoints, EO stops marked apart from re-plans on a blocked path, as the paper's
+Fig. 4) and the latest re-plan's neighbours coloured by risk. It draws to a window (``show=True``, needs an interactive
 matplotlib backend) and/or to an animated file without a screen (``save=`` ``.gif`` via
 Pillow, ``.mp4`` via ffmpeg: on the PATH, or the imageio-ffmpeg wheel of the ``[video]``
 extra).
@@ -23,7 +24,15 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
 from nav_bench.errors import InputError
-from nav_bench.reporting.episode_plot import RISK_COLORS, TRUE_COLOR, event_fields, grid_extent
+from nav_bench.reporting.episode_plot import (
+    BREAKPOINT_STYLE,
+    CHAIN_COLOR,
+    RISK_COLORS,
+    TRUE_COLOR,
+    chain_vertices,
+    event_fields,
+    grid_extent,
+)
 from nav_bench.specs import WorldSpec
 from nav_bench.world.draw import draw_world
 
@@ -72,6 +81,8 @@ class LiveView:
         self._trail: list[tuple[float, float]] = []
         self._last: tuple[float, np.ndarray, dict[str, Any]] | None = None
         self._plan: dict[str, Any] | None = None
+        self._plans: list[dict[str, Any]] = []  # every re-plan so far: the chain
+        self._numbered = 0  # breakpoints already given their number
         self._drawn_since_update = False
         self._gif_frames: list[Any] = []
         self._writer: Any = None
@@ -126,6 +137,11 @@ class LiveView:
         (self._heading,) = ax.plot([], [], lw=1.5, color=TRUE_COLOR, zorder=6)
         (self._target,) = ax.plot([], [], ls=":", lw=1.0, color="black", zorder=6)
         self._neighbours = ax.scatter([], [], s=18, zorder=7)
+        (self._chain,) = ax.plot([], [], lw=0.8, color=CHAIN_COLOR, zorder=6)
+        self._breakpoints = {
+            trigger: ax.scatter([], [], s=26, marker=st["marker"], facecolors=st["facecolor"],
+                                edgecolors=st["edgecolor"], linewidths=0.7, zorder=8)
+            for trigger, st in BREAKPOINT_STYLE.items()}
         (self._chosen,) = ax.plot([], [], marker="*", ms=11, mec="black", mfc="#2ca02c", ls="none",
                                   zorder=8)
         self._title = ax.set_title("t = 0.0 s", fontsize=10)
@@ -147,6 +163,7 @@ class LiveView:
             kind, _, data = event_fields(e)
             if kind == "replan" and "neighbours" in data:
                 self._plan = data
+                self._plans.append(data)
         self._last = (float(t), pose, dict(planner_state or {}))
         self._drawn_since_update = False
         if t + 1e-9 >= self._next_t:
@@ -202,6 +219,7 @@ class LiveView:
             self._neighbours.set_facecolors([c if k else "none" for c, k in zip(colors, cand, strict=False)])
             chosen = self._plan.get("chosen")
             self._chosen.set_data(*(([pts[chosen, 0]], [pts[chosen, 1]]) if chosen is not None else ([], [])))
+            self._draw_chain()
         mode = state.get("mode")
         self._title.set_text(f"t = {t:.1f} s" + (f"   mode: {mode}" if mode else ""))
         self._drawn_since_update = True
@@ -213,6 +231,21 @@ class LiveView:
             self._writer.grab_frame()
         elif self.save is not None:
             self._grab_gif_frame()
+
+    def _draw_chain(self) -> None:
+        """The chain so far; breakpoints numbered as they come (all of the first 40, then every
+        10th: numbers drawn once stay, so the rule cannot depend on the final count)."""
+        chain = chain_vertices(self._plans)
+        self._chain.set_data(chain[:, 0], chain[:, 1])
+        for trigger, points in self._breakpoints.items():
+            xy = [p["breakpoint"] for p in self._plans if p.get("trigger", "eo_stop") == trigger]
+            points.set_offsets(np.asarray(xy, dtype=float).reshape(-1, 2))
+        for k in range(self._numbered + 1, len(self._plans) + 1):
+            if k <= 40 or k % 10 == 0:
+                bx, by = self._plans[k - 1]["breakpoint"]
+                self.ax.annotate(str(k), (bx, by), xytext=(3, 3), textcoords="offset points",
+                                 fontsize=6, color=CHAIN_COLOR, zorder=9)
+        self._numbered = len(self._plans)
 
     def _grab_gif_frame(self) -> None:
         from PIL import Image

@@ -31,6 +31,7 @@ from nav_bench.reporting.statistics import (
     world_difficulties,
     world_table,
 )
+from nav_bench.specs import default_robot_radius
 
 MAX_TRAJECTORY_WORLDS = 24  # trajectory figures beyond this many worlds are left out
 
@@ -188,7 +189,8 @@ def write_report(dirs: list[Path], out: Path | None = None) -> Path:
     if difficulty_rows:
         md += ["## By world difficulty", "",
                "Worlds split into thirds by each BARN difficulty measure (Perille et al. 2020, "
-               "computed on the true map along the optimal path of a 0.18 m robot); cells: "
+               f"computed on the true map along the optimal path of a {default_robot_radius():g} m "
+               "robot); cells: "
                "success rate (episodes). Tortuosity and dispersion grow with difficulty; "
                "clearance, passage width and visibility shrink.", ""]
         md.append(_md_table(["measure", "third", "range", "worlds", *order], difficulty_rows))

@@ -41,7 +41,7 @@ from typing import Any
 
 import numpy as np
 
-from nav_bench.specs import WorldSpec
+from nav_bench.specs import WorldSpec, default_robot_radius
 from nav_bench.world.geometry import StaticGeometry, clearance, static_geometry
 from nav_bench.world.optimal import optimal_path
 from nav_bench.world.raster import rasterize
@@ -154,12 +154,12 @@ def path_measures(geometry: StaticGeometry, points: np.ndarray, dispersion_radiu
     }
 
 
-def difficulty(world: WorldSpec, robot_radius: float = 0.18, resolution: float = 0.05, *,
+def difficulty(world: WorldSpec, robot_radius: float | None = None, resolution: float = 0.05, *,
                dispersion_radius: float | None = None) -> dict[str, Any]:
     """BARN difficulty measures of a world for a disc robot (see the module docstring).
 
     Args:
-        robot_radius: m, for the optimal path.
+        robot_radius: m, for the optimal path; default: the default robot's.
         resolution: m, raster cell of the optimal path and the free area, and the spacing of
             the path samples (grown if the path would need more than 4000 samples).
         dispersion_radius: m, default ``robot_radius + 0.45``.
@@ -168,6 +168,7 @@ def difficulty(world: WorldSpec, robot_radius: float = 0.18, resolution: float =
         ``characteristic_dimension_m``, ``tortuosity``, ``free_area_m2``, ``optimal_length_m``
         (path measures ``None`` when the goal is unreachable).
     """
+    robot_radius = default_robot_radius() if robot_radius is None else robot_radius
     geometry = static_geometry(world)
     free = ~rasterize(geometry, resolution).occupied
     out: dict[str, Any] = {"closest_obstacle_m": None, "average_visibility_m": None,

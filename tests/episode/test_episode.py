@@ -170,22 +170,54 @@ def test_eopc_reaches_the_goal_behind_a_long_wall():
     assert crossing[1] < 1.5 or crossing[1] > 4.5
 
 
+STOP_ONLY = PlannerSetSpec(planner="eopc", params={"replan_on": "stop"})
+
+
 def test_eopc_never_leaves_a_pocket_deeper_than_rr_plus_lambda2():
-    """A property of the rules as PAPER-NOTES reads them (README, "What the benchmark found").
+    """A property of ``replan_on: stop`` (README, "When PC runs: the two readings compared").
 
     After each re-plan the robot heads for the goal from a point at most RR from the
     breakpoint; inside the concave trap every such line ends on the trap's back wall again,
     so the robot never gets back out through the opening (x = 5).
     """
     world = load_world(ROOT / "worlds" / "paper" / "concave_trap.yaml")
-    result = run_episode(world, PlannerSetSpec(planner="eopc"), seed=0,
-                         settings=EpisodeSettings(time_s=300.0))
+    result = run_episode(world, STOP_ONLY, seed=0, settings=EpisodeSettings(time_s=300.0))
     xy = result.trace.true_pose[:, :2]
     inside = np.argmax(xy[:, 0] > 6.0)  # first time deep in the pocket
     assert inside > 0
     assert result.row.outcome == "timeout"
     assert xy[inside:, 0].min() > 5.0
     assert result.row.replans > 20
+    assert result.row.events.get("replan.blocked_path", 0) == 0
+
+
+@pytest.mark.slow
+def test_eopc_leaves_the_concave_trap_along_a_chain_of_blocked_path_breakpoints():
+    """The default reading: arriving at Pi with the line to the goal blocked is a breakpoint,
+    so the chain follows the trap's wall out through the opening (x < 5) and round it."""
+    world = load_world(ROOT / "worlds" / "paper" / "concave_trap.yaml")
+    result = run_episode(world, PlannerSetSpec(planner="eopc"), seed=0,
+                         settings=EpisodeSettings(time_s=600.0))
+    row = result.row
+    assert row.outcome == "reached", row
+    xy = result.trace.true_pose[:, :2]
+    inside = np.argmax(xy[:, 0] > 6.0)
+    assert inside > 0 and xy[inside:, 0].min() < 5.0  # in the pocket, then out of it
+    assert row.replans == row.events["replan.eo_stop"] + row.events["replan.blocked_path"]
+    assert row.events["replan.blocked_path"] > row.events["replan.eo_stop"] >= 1
+
+
+@pytest.mark.slow
+def test_eopc_reaches_the_goal_behind_the_paper_worlds_long_wall():
+    """Paper world ``long_wall``: the only way round is the 2 m gap at the far end, 5 m down
+    the wall from the start's side (the first reading never reached it)."""
+    world = load_world(ROOT / "worlds" / "paper" / "long_wall.yaml")
+    result = run_episode(world, PlannerSetSpec(planner="eopc"), seed=0,
+                         settings=EpisodeSettings(time_s=1200.0))
+    assert result.row.outcome == "reached", result.row
+    xy = result.trace.true_pose[:, :2]
+    crossing = xy[np.argmax(xy[:, 0] > 5.0)]
+    assert crossing[1] < 2.0  # through the gap below the wall's end
 
 
 def test_episode_json_prints_exactly_one_row():

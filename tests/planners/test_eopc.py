@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,14 +23,17 @@ from nav_bench.planners.eopc import (
     PCSettings,
     choose_neighbour,
     collision_risk,
+    crossed_cells,
     eo_speed,
     front_distance,
     front_sonars,
+    goal_path_blocked,
     heuristic_cost,
     intensity_of_obstacles,
     intensity_of_trajectory,
     iteration_risk,
     neighbour_points,
+    old_path_heading,
     region_cells,
     risk_index,
     select_neighbour,
@@ -37,7 +41,9 @@ from nav_bench.planners.eopc import (
     travel_cost,
 )
 from nav_bench.planners.goal_seek import GoalSeek
-from nav_bench.testing.harness import BoxWorld, default_robot, run
+from nav_bench.testing.harness import BoxWorld, default_robot, run, u_world, wall_world
+
+DATA = Path(__file__).resolve().parents[1] / "data" / "eopc"
 
 FRAME = GridFrame.from_bounds((0.0, 0.0, 4.0, 4.0), 0.1)
 BP = np.array([2.05, 2.05])
@@ -370,3 +376,138 @@ def test_goal_seek_stays_trapped_in_the_same_u() -> None:
     result = run(GoalSeek(), u_pocket(), (2.0, 4.0, 0.0), (7.0, 4.0), time_s=60.0)
     assert not result.reached
     assert result.poses[-1, 0] == pytest.approx(5.0 - 0.35 - 0.0, abs=0.05)
+
+
+# ------------------------------------------------------------------ when PC runs: blocked path
+def line_grid(value: int = 0) -> np.ndarray:
+    """FRAME-sized PMO, all ``value``; the tests draw on row 20 (y = 2.05), the line BP -> goal."""
+    return np.full(FRAME.shape, value, dtype=np.uint8)
+
+
+def test_crossed_cells_are_the_cells_the_segment_passes_through_in_order() -> None:
+    # slope 1/3 from the centre of cell (0, 0); through the corner at (0.2, 0.1), whose two
+    # corner-touched cells (0, 2) and (1, 1) the segment does not enter
+    cells = crossed_cells(FRAME, np.array([0.05, 0.05]), np.array([0.35, 0.15]))
+    assert cells.tolist() == [[0, 0], [0, 1], [1, 2], [1, 3]]
+    assert crossed_cells(FRAME, np.array([1.05, 2.05]), np.array([1.05, 2.05])).tolist() == [[20, 10]]
+    assert crossed_cells(FRAME, np.array([0.35, 0.05]), np.array([0.05, 0.05])).tolist() == [
+        [0, 3], [0, 2], [0, 1], [0, 0]]
+
+
+def test_goal_path_is_blocked_only_by_occupied_cells_on_the_segment() -> None:
+    goal = np.array([3.55, 2.05])
+    pmo = line_grid(0)
+    assert goal_path_blocked(pmo, FRAME, BP, goal, 65.0) is False
+    pmo[20, 30] = 66  # just above occupied_above, on the line (x = 3.05)
+    assert goal_path_blocked(pmo, FRAME, BP, goal, 65.0) is True
+    pmo[20, 30] = 65  # at the threshold: RC = 50, not occupied
+    assert goal_path_blocked(pmo, FRAME, BP, goal, 65.0) is False
+    pmo[20, 36] = 100  # beyond the goal (x = 3.65): not on the segment
+    assert goal_path_blocked(pmo, FRAME, BP, goal, 65.0) is False
+
+
+def test_unknown_cells_and_the_world_beyond_the_grid_never_block() -> None:
+    pmo = line_grid(50)  # nothing seen yet
+    assert goal_path_blocked(pmo, FRAME, BP, np.array([3.55, 2.05]), 65.0) is False
+    assert goal_path_blocked(line_grid(0), FRAME, BP, np.array([9.0, 2.05]), 65.0) is False  # leaves the grid
+
+
+def test_the_robots_own_cell_does_not_block() -> None:
+    pmo = line_grid(0)
+    pmo[20, 20] = 100  # the breakpoint's cell: sonar noise under the robot
+    assert goal_path_blocked(pmo, FRAME, BP, np.array([3.55, 2.05]), 65.0) is False
+
+
+def test_corridor_mode_sees_an_obstacle_beside_the_line_that_the_segment_misses() -> None:
+    pmo = line_grid(0)
+    pmo[22, 28] = 100  # centre (2.85, 2.25): 0.2 m beside the line, cells 0.15..0.25 m off it
+    goal = np.array([3.55, 2.05])
+    assert goal_path_blocked(pmo, FRAME, BP, goal, 65.0, half_width=0.0) is False
+    assert goal_path_blocked(pmo, FRAME, BP, goal, 65.0, half_width=0.18) is True
+    assert goal_path_blocked(pmo, FRAME, BP, goal, 65.0, half_width=0.1) is False
+
+
+def test_old_path_heading_is_the_direction_of_the_segment_just_driven() -> None:
+    assert old_path_heading(np.array([1.0, 1.0]), np.array([1.5, 1.5]), 0.3) == pytest.approx(math.pi / 4)
+    assert old_path_heading(np.array([1.0, 1.0]), np.array([0.5, 1.0]), 0.3) == pytest.approx(math.pi)
+    assert old_path_heading(None, np.array([0.5, 1.0]), 0.3) == 0.3  # no old path: the heading
+    assert old_path_heading(np.array([0.5, 1.0]), np.array([0.5, 1.0]), 0.3) == 0.3
+
+
+def arrived_at_pi(wall_x: float | None, replan_on: str = "blocked_path") -> tuple[EOPC, Command]:
+    """An EOPC that chose Pi = (3.05, 2.05) at the breakpoint (2.55, 1.55) and now stands on Pi
+    facing 45 deg, with no echo in range; ``wall_x``: PMO cells certainly occupied across the
+    line to the goal (8.05, 2.05) at that x, 3.5 m away: beyond the 3 m sonars, so this
+    cycle's free readings cannot clear them."""
+    planner = EOPC(replan_on=replan_on)
+    pose = np.array([3.05, 2.05, math.pi / 4])
+    obs = observation(pose, [3.0] * 6, goal=(8.05, 2.05))
+    planner.reset(obs, np.random.default_rng(0))
+    if wall_x is not None:
+        r0, c = planner.pmo.frame.world_to_cell((wall_x, 1.0))
+        r1, _ = planner.pmo.frame.world_to_cell((wall_x, 3.0))
+        planner.pmo._log_odds[r0:r1 + 1, c] = planner.pmo.l_max
+        planner.pmo._values[r0:r1 + 1, c] = 97
+    planner.mode, planner._target = "to_point", np.array([3.05, 2.05])
+    planner._chain_from = np.array([2.55, 1.55])
+    return planner, planner.act(obs)
+
+
+def test_arriving_at_pi_with_the_goal_path_blocked_is_a_breakpoint_measured_from_the_old_path() -> None:
+    planner, cmd = arrived_at_pi(wall_x=6.55)
+    (event,) = planner.pop_events()
+    assert event.kind == "replan" and planner.replans == 1
+    assert event.data["trigger"] == "blocked_path" and event.data["theta_from"] == "old_path"
+    assert event.data["breakpoint"] == pytest.approx([3.05, 2.05])
+    assert event.data["heading"] == pytest.approx(math.pi / 4, abs=1e-6)  # (2.55, 1.55) -> Pi
+    theta0 = np.asarray(event.data["neighbours"][0])  # theta = 0 continues the old path
+    assert theta0 == pytest.approx([3.05 + 0.5 * math.cos(math.pi / 4), 2.05 + 0.5 * math.sin(math.pi / 4)],
+                                   abs=1e-6)
+    chosen = event.data["chosen"]
+    # a candidate chosen by the rules (no wall within 3 m); Y turns from the robot's own yaw
+    assert event.data["tier"] in (1, 2) and event.data["candidate"][chosen]
+    assert planner.mode in ("turn", "to_point")
+    aim = math.atan2(*(np.asarray(event.data["neighbours"][chosen]) - [3.05, 2.05])[::-1])
+    assert planner._turn_goal == pytest.approx(math.remainder(aim - math.pi / 4, 2 * math.pi), abs=1e-6)
+    assert cmd.v == 0.0
+
+
+def test_arriving_at_pi_with_a_clear_line_hands_back_to_the_goal() -> None:
+    planner, cmd = arrived_at_pi(wall_x=None)
+    assert planner.pop_events() == [] and planner.mode == "goal"
+    assert planner.debug_state()["target"] == [8.05, 2.05]
+    # the goal lies 45 deg to the right, within align_deg: drive on at v_max*cos(45 deg), turning right
+    assert cmd == Command(pytest.approx(0.5 * math.cos(math.pi / 4)), -1.0)
+
+
+def test_the_stop_reading_heads_for_the_goal_even_when_pmo_blocks_the_line() -> None:
+    planner, _ = arrived_at_pi(wall_x=6.55, replan_on="stop")
+    assert planner.pop_events() == [] and planner.mode == "goal"
+
+
+@pytest.mark.parametrize("case", ["wall", "u", "u_noisy"])
+def test_replan_on_stop_retraces_the_first_readings_trajectory(case: str) -> None:
+    """``replan_on: stop`` is the project's first reading, kept exactly: the reference poses and
+    commands were recorded with the code before ``replan_on`` existed (same generator, seed 3)."""
+    world, start, goal = {"wall": wall_world, "u": u_world, "u_noisy": u_world}[case]()
+    time_s = {"wall": 120.0, "u": 200.0, "u_noisy": 200.0}[case]
+    result = run(EOPC(replan_on="stop"), world, start, goal, time_s=time_s, seed=3,
+                 noise_std=0.01 if case == "u_noisy" else 0.0)
+    reference = np.load(DATA / "stop_reading_reference.npz")
+    np.testing.assert_allclose(result.poses, reference[f"{case}_poses"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(result.commands, reference[f"{case}_commands"], rtol=0, atol=1e-9)
+
+
+def test_blocked_path_leaves_the_u_that_the_stop_reading_cannot() -> None:
+    world, start, goal = u_world()
+    chained = run(EOPC(), world, start, goal, time_s=300.0, seed=3)
+    assert chained.reached and chained.collisions == 0
+    triggers = [d["trigger"] for k, _, d in chained.events if k == "replan"]
+    assert triggers.count("blocked_path") > triggers.count("eo_stop") >= 1
+    stop_only = run(EOPC(replan_on="stop"), world, start, goal, time_s=300.0, seed=3)
+    assert not stop_only.reached
+
+
+def test_unknown_replan_on_is_refused_with_the_allowed_values() -> None:
+    with pytest.raises(InputError, match=r"replan_on.*\['blocked_path', 'stop'\]"):
+        EOPC(replan_on="sometimes")

@@ -69,6 +69,8 @@ def test_parameter_set_file_and_name_with_overrides():
 @pytest.mark.parametrize("text, words", [
     ("eopc:RR=abc", "expects a number"),
     ("eopc:ipo_mode=sum", "must be one of"),
+    ("eopc:replan_on=never", r"replan_on' must be one of \['blocked_path', 'stop'\]"),
+    ("eopc:blocked_by=wall", r"blocked_by' must be one of \['segment', 'corridor'\]"),
     ("eopc:RR", "not key=value"),
     ("eopc:lambda=0.5", "has no parameter 'lambda'"),
 ])

@@ -12,7 +12,13 @@ from nav_bench.interface import Observation, RobotInfo, SonarInfo
 from nav_bench.planners.base import Planner
 from nav_bench.planners.eopc import EOPC
 from nav_bench.planners.goal_seek import GoalSeek
-from nav_bench.reporting.episode_plot import episode_title, plot_episode, replans
+from nav_bench.reporting.episode_plot import (
+    chain_vertices,
+    episode_title,
+    label_step,
+    plot_episode,
+    replans,
+)
 from nav_bench.specs import WorldSpec
 
 WORLD = WorldSpec(name="wall", size=(8.0, 6.0), start=[1.0, 3.0, 0.0], goal=(7.0, 3.0),
@@ -62,3 +68,21 @@ def test_any_planner_gets_a_single_panel_and_a_title_from_the_trace(tmp_path) ->
     title = episode_title(trace)
     assert title == "wall - planner: ? after 5.4 s, path 2.7 m, 0 re-plans"
     assert plot_episode(trace, tmp_path / "goal_seek.svg").stat().st_size > 1000
+
+
+def test_the_chain_joins_breakpoints_and_chosen_points_in_order() -> None:
+    plans = [{"breakpoint": [1.0, 1.0], "neighbours": [[1.5, 1.0], [1.0, 1.5]], "chosen": 1},
+             {"breakpoint": [1.0, 1.5], "neighbours": [[1.5, 1.5], [1.0, 2.0]], "chosen": None},
+             {"breakpoint": [1.02, 1.5], "neighbours": [[1.52, 1.5], [1.0, 2.0]], "chosen": 0}]
+    assert chain_vertices(plans).tolist() == [[1.0, 1.0], [1.0, 1.5], [1.02, 1.5], [1.52, 1.5]]
+    assert chain_vertices([]).shape == (0, 2)
+    assert [label_step(n) for n in (1, 40, 41, 379)] == [1, 1, 2, 10]
+
+
+def test_title_splits_replans_by_trigger() -> None:
+    trace = fake_trace(EOPC(), {"world": "wall", "planner": "eopc", "outcome": "reached", "time_s": 9.0,
+                                "path_length_m": 3.0, "replans": 5, "seed": 0,
+                                "events": {"replan": 5, "replan.eo_stop": 2, "replan.blocked_path": 3}})
+    assert episode_title(trace).endswith("5 re-plans (2 at EO stops, 3 on a blocked path)")
+    replan = next(e for e in trace.events if e["kind"] == "replan")
+    assert replan["data"]["trigger"] == "eo_stop" and replan["data"]["theta_from"] == "heading"

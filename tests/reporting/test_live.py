@@ -58,3 +58,25 @@ def test_bad_requests_are_clear_errors(tmp_path) -> None:
         LiveView(WORLD, show=True)  # the test run uses the non-interactive Agg backend
     with pytest.raises(InputError, match="every_s"):
         LiveView(WORLD, every_s=0)
+
+
+def chain_plan(bx: float, chosen_xy: tuple[float, float], trigger: str) -> dict:
+    pts = [[bx + 0.5, 2.0]] * 16
+    pts[3] = list(chosen_xy)
+    return {"breakpoint": [bx, 2.0], "neighbours": pts, "risk": [0] * 16, "candidate": [True] * 16,
+            "chosen": 3, "trigger": trigger}
+
+
+def test_the_chain_is_drawn_numbered_with_eo_stops_apart(tmp_path) -> None:
+    view = LiveView(WORLD, every_s=0.5, save=tmp_path / "chain.gif")
+    plans = [chain_plan(1.5, (2.0, 2.5), "eo_stop"), chain_plan(2.0, (2.5, 2.5), "blocked_path"),
+             chain_plan(2.5, (3.0, 2.0), "blocked_path")]
+    for k, plan in enumerate(plans):
+        view.update(0.5 * k, np.array([1.0 + k, 2.0, 0.0]), state(0.0),
+                    [{"kind": "replan", "t": 0.5 * k, "data": plan}])
+    view.close()
+    xs, ys = view._chain.get_data()
+    assert list(zip(xs, ys, strict=True)) == [(1.5, 2.0), (2.0, 2.5), (2.0, 2.0), (2.5, 2.5), (2.5, 2.0), (3.0, 2.0)]
+    assert view._breakpoints["eo_stop"].get_offsets().tolist() == [[1.5, 2.0]]
+    assert view._breakpoints["blocked_path"].get_offsets().tolist() == [[2.0, 2.0], [2.5, 2.0]]
+    assert [t.get_text() for t in view.ax.texts if t.get_text()] == ["1", "2", "3"]

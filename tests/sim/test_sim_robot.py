@@ -13,7 +13,7 @@ from sim_helpers import make_sim, make_world
 from nav_bench.errors import RobotModelError
 from nav_bench.interface import Command, wrap_angle
 from nav_bench.sim.robot import integrate_odometry, wheel_speeds
-from nav_bench.specs import RobotSpec, default_robot_file, load_robot
+from nav_bench.specs import RobotSpec, default_robot_file, default_robot_radius, load_robot
 
 DIFFBOT_URDF = default_robot_file().parent / "diffbot.urdf"
 OPEN_FLOOR = {"size": (20.0, 20.0), "start": (10.0, 10.0, 0.0)}
@@ -37,6 +37,7 @@ def test_robot_info_comes_from_the_urdf_and_config(session, exact_robot):
     sim = make_sim(session, make_world(), exact_robot)
     info = sim.robot_info
     assert info.radius == pytest.approx(0.18)
+    assert info.radius == default_robot_radius()  # the world tools read the URDF alike
     assert info.wheel_base == pytest.approx(0.26)
     assert sim.robot.model.wheel_radius == pytest.approx((0.05, 0.05))
     assert info.v_max == pytest.approx(0.05 * exact_robot.drive.max_wheel_speed)

@@ -28,9 +28,10 @@ import numpy as np
 import yaml
 
 from nav_bench.errors import InputError
+from nav_bench.specs import default_robot_radius
 
 DECIMALS = 3  # coordinates are written to the millimetre
-DEFAULT_ROBOT_RADIUS = 0.18  # m, the diffbot's body radius
+DEFAULT_ROBOT_RADIUS = default_robot_radius()  # m, read from the default robot's URDF
 
 
 # --------------------------------------------------------------------------- settings

@@ -8,7 +8,7 @@ import numpy as np
 from scipy import ndimage
 
 from nav_bench.errors import InputError
-from nav_bench.specs import WorldSpec
+from nav_bench.specs import WorldSpec, default_robot_radius
 from nav_bench.world.geometry import static_geometry
 from nav_bench.world.imports.rectangles import merge_cells
 from nav_bench.world.optimal import free_cell_near, grid_distances, grid_graph
@@ -41,13 +41,13 @@ def world_skeleton(size: tuple[float, float], obstacles: list[dict[str, Any]]) -
                                      "goal": [0.0, 0.0], "obstacles": obstacles})
 
 
-def pick_endpoints(world: WorldSpec, robot_radius: float = 0.18, resolution: float = 0.05,
+def pick_endpoints(world: WorldSpec, robot_radius: float | None = None, resolution: float = 0.05,
                    margin: float = 0.1, fixed: tuple[float, float] | None = None,
                    ) -> tuple[tuple[float, float], tuple[float, float]]:
     """A far-apart start and goal for a disc robot, chosen deterministically.
 
     Within the largest 8-connected component of the configuration space (cells whose centre
-    keeps ``robot_radius`` from every obstacle), take the two cells farthest apart by
+    keeps ``robot_radius`` (default: the default robot's) from every obstacle), take the two cells farthest apart by
     geodesic (8-connected grid) distance, approximated by a double sweep: the farthest cell A
     from an arbitrary cell, then the farthest cell B from A (exact on tree-like free space,
     close to the diameter in rooms and mazes). Only cells keeping ``robot_radius + margin``
@@ -60,6 +60,7 @@ def pick_endpoints(world: WorldSpec, robot_radius: float = 0.18, resolution: flo
     Raises:
         InputError: the map has no room for the robot (near ``fixed``, when given).
     """
+    robot_radius = default_robot_radius() if robot_radius is None else robot_radius
     geometry = static_geometry(world)
     raster = rasterize(geometry, resolution, inflate=robot_radius)
     roomy = ~rasterize(geometry, resolution, inflate=robot_radius + margin).occupied

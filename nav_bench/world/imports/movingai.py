@@ -103,7 +103,7 @@ def scen_cell_to_world(xy: tuple[int, int], height: int, cell: float) -> tuple[f
 
 
 def import_movingai(map_path: str | Path, scen: str | Path | None = None, index: int = 0,
-                    cell: float = 0.5, *, robot_radius: float = 0.18,
+                    cell: float = 0.5, *, robot_radius: float | None = None,
                     name: str | None = None) -> dict[str, Any]:
     """A MovingAI map as world data (a dict ready for ``world_from_data``).
 
@@ -113,7 +113,8 @@ def import_movingai(map_path: str | Path, scen: str | Path | None = None, index:
             line after ``version``). Without it a far-apart pair is picked automatically
             (:func:`~nav_bench.world.imports.grid.pick_endpoints`).
         cell: side of a map cell in the world (m).
-        robot_radius: disc radius used to pick start/goal automatically (m).
+        robot_radius: disc radius used to pick start/goal automatically (m); default: the
+            default robot's.
         name: world name (default ``<map stem>_<index>`` with a scenario, else the stem).
     """
     map_path = Path(map_path)

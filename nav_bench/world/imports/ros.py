@@ -165,7 +165,7 @@ def _cell_of(world_xy: tuple[float, float], res: float, shape: tuple[int, int]) 
 def import_ros(map_yaml: str | Path, start: tuple[float, float] | None = None,
                goal: tuple[float, float] | None = None,
                unknown_as: Literal["obstacle", "free"] = "obstacle", *,
-               crop_margin_m: float = 0.1, robot_radius: float = 0.18,
+               crop_margin_m: float = 0.1, robot_radius: float | None = None,
                name: str | None = None, source: str | None = None,
                licence: str | None = None) -> dict[str, Any]:
     """A ROS map_server map as world data (a dict ready for ``world_from_data``).
@@ -175,7 +175,8 @@ def import_ros(map_yaml: str | Path, start: tuple[float, float] | None = None,
         start, goal: (x, y) in the map frame (m); ``None`` picks a far-apart pair.
         unknown_as: how unknown pixels are treated.
         crop_margin_m: margin kept around the known pixels (m).
-        robot_radius: disc radius used to pick start/goal automatically (m).
+        robot_radius: disc radius used to pick start/goal automatically (m); default: the
+            default robot's.
         name: world name (default: the YAML file's stem; ``map`` takes its folder's name).
         source, licence: attribution kept in ``meta`` (where the map comes from, its licence).
     Raises:
