@@ -31,7 +31,7 @@ import numpy as np
 
 from nav_bench.interface import Observation, RobotInfo, SonarInfo
 from nav_bench.mapping import OccupancyGrid, VisitGrid
-from nav_bench.planners.eopc import EOPC, PCSettings, choose_neighbour, goal_path_blocked
+from nav_bench.planners.eopc import EOPC, choose_neighbour, goal_path_blocked
 
 
 def diffbot() -> RobotInfo:
@@ -81,7 +81,7 @@ def bench_world(size: float, reps: int, seed: int) -> dict[str, tuple[float, flo
         pose = np.array([*(centre + rng.uniform(-1.5, 1.5, 2)), rng.uniform(-math.pi, math.pi)])
         pmo.update(pose, readings(rng), robot.sonar)
         pmt.add(pose[:2])
-    values, counts, settings = pmo.values(copy=False), pmt.counts, PCSettings()
+    values, counts, settings = pmo.values(copy=False), pmt.counts, EOPC.Settings()
     goal = np.array([size - 0.5, size - 0.5])
     headings = rng.uniform(-math.pi, math.pi, reps + 50)
     out["PC decision (16 neighbours)"] = percentiles(

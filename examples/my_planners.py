@@ -26,9 +26,9 @@ class Cautious(Planner):
         if math.hypot(gx - x, gy - y) < 0.2:
             return Command(0.0, 0.0)
         a, r = obs.robot.sonar.angles, obs.ranges  # (K,) mount angles (rad), readings (m)
-        if r[abs(a) < 0.5].min() < self.p["stop_m"]:  # blocked: turn toward the freer side
+        if r[abs(a) < 0.5].min() < self.settings.stop_m:  # blocked: turn toward the freer side
             return Command(0.0, 0.8 if r[a > 0].sum() >= r[a < 0].sum() else -0.8)
         error = math.atan2(gy - y, gx - x) - yaw
         error = math.atan2(math.sin(error), math.cos(error))
-        omega = max(-1.0, min(1.0, self.p["k_turn"] * error))
-        return Command(self.p["v_max"] * max(0.0, math.cos(error)), omega)
+        omega = max(-1.0, min(1.0, self.settings.k_turn * error))
+        return Command(self.settings.v_max * max(0.0, math.cos(error)), omega)

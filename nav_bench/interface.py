@@ -9,6 +9,7 @@ all speak these. Units: metres, seconds, radians.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any
@@ -115,6 +116,125 @@ class PlannerEvent:
     kind: str
     t: float
     data: dict[str, Any] = field(default_factory=dict)
+
+    @classmethod
+    def of(cls, event: Any) -> PlannerEvent:
+        """``event`` as a PlannerEvent: one already, or as the trace stores it, ``{kind, t, data}``."""
+        if isinstance(event, PlannerEvent):
+            return event
+        return cls(str(event.get("kind", "")), float(event.get("t", 0.0)), dict(event.get("data") or {}))
+
+
+# The risk index of a candidate point (EO/PC's r: safe, medium, high) and how viewers colour it
+RISK_COLORS = {0: "#2ca02c", 50: "#ff9f1c", 100: "#d62728"}
+NO_RISK_COLOR = "#7f7f7f"
+
+
+def _points(values: Any) -> tuple[tuple[float, float], ...]:
+    return tuple((float(v[0]), float(v[1])) for v in values)
+
+
+@dataclass(frozen=True)
+class ReplanEvent:
+    """A re-plan at a breakpoint: the candidate points around it, their risk index, the one
+    chosen, and why the planner re-planned. What plots, the live view and the GUI draw.
+
+    A planner emits it with ``self.emit(REPLAN, t, **event.data())``; the trace keeps the plain
+    data; :meth:`from_event` reads it back from a :class:`PlannerEvent` or a stored event.
+
+    Attributes:
+        t: s. breakpoint: (x, y) m. neighbours: the candidate points (x, y), m.
+        risk: each neighbour's risk index (0, 50, 100); empty: unknown.
+        candidate: whether each neighbour could be chosen; empty: all could.
+        chosen: index of the chosen neighbour (None: none chosen).
+        trigger: what made the planner re-plan (EO/PC: ``eo_stop`` or ``blocked_path``).
+        theta_from: what the angles are measured from (EO/PC: ``heading`` or ``old_path``).
+        details: the rest of the planner's numbers (scores, tiers...), plain JSON.
+    """
+
+    t: float
+    breakpoint: tuple[float, float]
+    neighbours: tuple[tuple[float, float], ...] = ()
+    risk: tuple[int, ...] = ()
+    candidate: tuple[bool, ...] = ()
+    chosen: int | None = None
+    trigger: str = "eo_stop"
+    theta_from: str = "heading"
+    details: Mapping[str, Any] = field(default_factory=dict)
+
+    def data(self) -> dict[str, Any]:
+        """The event's payload as plain JSON (what the trace stores)."""
+        return {"breakpoint": list(self.breakpoint), "neighbours": [list(p) for p in self.neighbours],
+                "risk": list(self.risk), "candidate": list(self.candidate), "chosen": self.chosen,
+                **self.details, "trigger": self.trigger, "theta_from": self.theta_from}
+
+    @classmethod
+    def from_event(cls, event: Any) -> ReplanEvent | None:
+        """The re-plan in ``event`` (a :class:`PlannerEvent` or a stored ``{kind, t, data}``);
+        None if it is another kind of event or carries no breakpoint and neighbours."""
+        kind, t, data = (e := PlannerEvent.of(event)).kind, e.t, e.data
+        if kind != REPLAN or "breakpoint" not in data or "neighbours" not in data:
+            return None
+        core = {"breakpoint", "neighbours", "risk", "candidate", "chosen", "trigger", "theta_from"}
+        chosen = data.get("chosen")
+        return cls(t=float(t), breakpoint=_points([data["breakpoint"]])[0],
+                   neighbours=_points(data["neighbours"]),
+                   risk=tuple(int(r) for r in data.get("risk", ())),
+                   candidate=tuple(bool(c) for c in data.get("candidate", ())),
+                   chosen=None if chosen is None else int(chosen),
+                   trigger=str(data.get("trigger", "eo_stop")),
+                   theta_from=str(data.get("theta_from", "heading")),
+                   details={k: v for k, v in data.items() if k not in core})
+
+    def risk_of(self, i: int) -> int | None:
+        """Neighbour ``i``'s risk index, None when the event has none."""
+        return self.risk[i] if i < len(self.risk) else None
+
+
+REPLAN = "replan"  # the event kind counted in a result row's ``replans``
+
+
+@dataclass(frozen=True)
+class GridState:
+    """A planner's grid maps as viewers draw them.
+
+    Attributes:
+        pmo: (H, W) occupancy 0..100 (50 unknown), row 0 at ``ymin``.
+        pmt: (H, W) visit counts (control cycles per cell), or None.
+        bounds: ``(xmin, ymin, xmax, ymax)`` of the grids, m. cell: cell size, m, or None.
+    """
+
+    pmo: np.ndarray
+    bounds: tuple[float, float, float, float]
+    pmt: np.ndarray | None = None
+    cell: float | None = None
+
+    @property
+    def extent(self) -> list[float]:
+        """imshow extent ``[xmin, xmax, ymin, ymax]``."""
+        xmin, ymin, xmax, ymax = self.bounds
+        return [xmin, xmax, ymin, ymax]
+
+    def state(self) -> dict[str, Any]:
+        """The grids as entries of a planner's ``debug_state()`` (what the trace stores)."""
+        out: dict[str, Any] = {"pmo": self.pmo}
+        if self.pmt is not None:
+            out["pmt"] = self.pmt
+        out["bounds"] = list(self.bounds)
+        if self.cell is not None:
+            out["cell"] = self.cell
+        return out
+
+    @classmethod
+    def from_state(cls, state: Mapping[str, Any] | None) -> GridState | None:
+        """The grids in a ``debug_state()`` (live or stored); None if it has none."""
+        if not state or "pmo" not in state or "bounds" not in state:
+            return None
+        pmt = state.get("pmt")
+        cell = state.get("cell")
+        return cls(pmo=np.asarray(state["pmo"]), bounds=tuple(float(v) for v in state["bounds"]),
+                   pmt=None if pmt is None else np.asarray(pmt),
+                   cell=None if cell is None else float(cell))
 
 
 def wrap_angle(a: float) -> float:

@@ -22,6 +22,8 @@ import numpy as np
 from nav_bench.episode import EpisodeSettings
 from nav_bench.episode.loop import run_episode
 from nav_bench.interface import Command
+from nav_bench.sim.session import SimSession
+from nav_bench.sim.simulation import Simulation
 from nav_bench.specs import PlannerSetSpec, WorldSpec, load_robot
 from nav_bench.world.load import load_world
 
@@ -35,9 +37,6 @@ def _stepping_rate(world: WorldSpec, steps: int = 4800, command: Command = CURVE
     ``bare``: Bullet's ``stepSimulation`` alone, without the robot's per-step work (the
     motors keep their last targets, so the robot drives on the same way).
     """
-    from nav_bench.sim.session import SimSession
-    from nav_bench.sim.simulation import Simulation
-
     robot = load_robot()
     with SimSession(physics_hz=240.0) as session:
         sim = Simulation(session, world, robot, np.random.default_rng(0), physics_hz=240.0)
@@ -84,8 +83,6 @@ def _episode_figures(world: WorldSpec, world_file: str, planner: str, seconds: f
     """Play one episode ``1 + repeats`` times and print its real-time factor and wall-time split:
     once with a client of its own, then ``repeats`` times in one session as a batch worker
     plays its episodes. Returns the median repeat's real-time factor and non-physics share."""
-    from nav_bench.sim.session import SimSession
-
     def play(session: SimSession | None = None) -> tuple[dict, dict[str, float]]:
         result = run_episode(world, PlannerSetSpec(planner=planner), seed=0, session=session,
                              settings=EpisodeSettings(time_s=seconds), world_file=world_file)

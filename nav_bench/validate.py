@@ -6,40 +6,19 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from nav_bench.batch.suite import load_suite
 from nav_bench.errors import InputError, SpecError
+from nav_bench.planners.registry import load_planner_set
+from nav_bench.specs import load_robot
+from nav_bench.world.load import load_world
 from nav_bench.yamlio import load_yaml
-
-
-def _load_suite(path: Path) -> Any:
-    from nav_bench.batch.suite import load_suite
-
-    return load_suite(path)
-
-
-def _load_world(path: Path) -> Any:
-    from nav_bench.world.load import load_world
-
-    return load_world(path)
-
-
-def _load_planner(path: Path) -> Any:
-    from nav_bench.planners.registry import load_planner_set
-
-    return load_planner_set(path)
-
-
-def _load_robot(path: Path) -> Any:
-    from nav_bench.specs import load_robot
-
-    return load_robot(path)
-
 
 # the top-level key that tells a file's kind, checked in this order
 KINDS: list[tuple[str, str, Callable[[Path], Any]]] = [
-    ("worlds", "suite", _load_suite),
-    ("planner", "planner set", _load_planner),
-    ("urdf", "robot", _load_robot),
-    ("size", "world", _load_world),
+    ("worlds", "suite", load_suite),
+    ("planner", "planner set", load_planner_set),
+    ("urdf", "robot", load_robot),
+    ("size", "world", load_world),
 ]
 
 
@@ -52,8 +31,8 @@ def file_kind(path: Path) -> tuple[str, Callable[[Path], Any]]:
         if key in data:
             return kind, loader
     if path.parent.name == "robots":
-        return "robot", _load_robot
-    return "world", _load_world
+        return "robot", load_robot
+    return "world", load_world
 
 
 def expand_paths(paths: list[Path]) -> list[Path]:

@@ -103,6 +103,5 @@ def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,
             state = agent.debug_state()
         except Exception:  # a broken debug_state must not lose the row
             state = {}
-        replans = getattr(agent, "replans", None)
         return stepper.finish(wall_s=time.perf_counter() - wall0, planner_state=state,
-                              replans=replans)
+                              replans=agent.replans)

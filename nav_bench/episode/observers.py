@@ -13,7 +13,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from nav_bench.interface import Command, Observation
+from nav_bench.interface import RISK_COLORS, Command, Observation, ReplanEvent
 from nav_bench.planners.base import Planner
 
 
@@ -52,7 +52,9 @@ class LiveFeed:
         self.view.close()
 
 
-RISK_LINE_COLORS = {0: (0.1, 0.8, 0.1), 50: (1.0, 0.6, 0.0), 100: (0.9, 0.1, 0.1)}
+def rgb(hex_colour: str) -> tuple[float, float, float]:
+    """``#rrggbb`` as PyBullet's (r, g, b) in 0..1."""
+    return tuple(int(hex_colour[i:i + 2], 16) / 255 for i in (1, 3, 5))  # type: ignore[return-value]
 
 
 class GuiView:
@@ -74,14 +76,12 @@ class GuiView:
         if target is not None:
             sim.draw_lines([((x, y), tuple(target)), (tuple(target), tuple(obs.goal))],
                            color=(1.0, 0.5, 0.0), key="path")
-        for e in cycle.events:
-            if e["kind"] == "replan" and "neighbours" in e["data"]:
-                bx, by = e["data"]["breakpoint"]
-                segs = [((bx, by), tuple(n)) for n in e["data"]["neighbours"]]
-                risks = e["data"].get("risk", [100] * len(segs))
-                for r, colour in RISK_LINE_COLORS.items():
-                    sel = [s for s, ri in zip(segs, risks, strict=False) if ri == r]
-                    sim.draw_lines(sel, color=colour, key=f"neighbours{r}")
+        for plan in filter(None, map(ReplanEvent.from_event, cycle.events)):
+            segs = [(plan.breakpoint, n) for n in plan.neighbours]
+            risks = plan.risk or (100,) * len(segs)
+            for r, colour in RISK_COLORS.items():
+                sel = [s for s, ri in zip(segs, risks, strict=False) if ri == r]
+                sim.draw_lines(sel, color=rgb(colour), key=f"neighbours{r}")
 
     def close(self) -> None:
         pass

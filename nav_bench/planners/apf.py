@@ -84,23 +84,23 @@ class PotentialField(Planner):
 
     def forces(self, obs: Observation) -> tuple[np.ndarray, np.ndarray]:
         """(attractive, repulsive) forces (2,) each, world frame, at this observation."""
-        p = self.p
+        p = self.settings
         xy = np.asarray(obs.pose[:2], dtype=float)
-        f_att = attractive_force(xy, obs.goal, p["k_att"], p["attract_radius"])
+        f_att = attractive_force(xy, obs.goal, p.k_att, p.attract_radius)
         echoes = obs.sonar_hits()[echo_mask(obs)]
-        f_rep = repulsive_force(xy, echoes, obs.robot.radius, p["k_rep"], p["rho0"], p["min_clearance"])
+        f_rep = repulsive_force(xy, echoes, obs.robot.radius, p.k_rep, p.rho0, p.min_clearance)
         return f_att, f_rep
 
     def act(self, obs: Observation) -> Command:
-        p = self.p
+        p = self.settings
         f_att, f_rep = self.forces(obs)
         self.force = f_att + f_rep
         mag = float(np.hypot(*self.force))
         if mag < 1e-9:
             return limit(0.0, 0.0, obs.robot)
-        v = min(p["v_max"], obs.robot.v_max, p["k_v"] * mag)
+        v = min(p.v_max, obs.robot.v_max, p.k_v * mag)
         return steer(obs, math.atan2(self.force[1], self.force[0]), v,
-                     turn_in_place=math.radians(p["turn_in_place_deg"]))
+                     turn_in_place=math.radians(p.turn_in_place_deg))
 
     def debug_state(self) -> dict[str, Any]:
         """``force``: the last total force [fx, fy] (world frame)."""

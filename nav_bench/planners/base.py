@@ -7,13 +7,16 @@ radians.
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Mapping
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Any, ClassVar
 
 import numpy as np
 
 from nav_bench.errors import InputError
-from nav_bench.interface import Command, Observation, PlannerEvent
+from nav_bench.interface import REPLAN, Command, Observation, PlannerEvent
 
 
 class ParamError(InputError):
@@ -59,20 +62,39 @@ class Param:
         return value
 
 
+def settings_class(owner: str, params: tuple[Param, ...], module: str) -> type:
+    """A frozen dataclass with one attribute per :class:`Param` (its default as default), so
+    a planner reads ``self.settings.lambda2`` and a typo fails at once."""
+    fields = [(p.name, type(p.default), dataclasses.field(default=p.default)) for p in params]
+    cls = dataclasses.make_dataclass(f"{owner}Settings", fields, frozen=True)
+    cls.__module__, cls.__qualname__ = module, f"{owner}.Settings"  # pickled by this name
+    cls.__doc__ = "Parameters of the planner, with defaults:\n\n" + "\n".join(
+        f"* ``{p.name}`` = {p.default!r} {p.unit}: {p.doc}" for p in params)
+    return cls
+
+
 class Planner:
     """Base class of every planner.
 
     Subclasses set ``name`` and ``params`` (a tuple of :class:`Param`), implement
     :meth:`reset` and :meth:`act`, and call :meth:`emit` for events. Parameter values
-    are on ``self.p`` (a dict with defaults filled in).
+    are attributes of ``self.settings`` (a frozen ``Settings`` object generated from
+    ``params``, defaults filled in); ``self.p`` holds the same values as a read-only mapping.
     """
 
     name: ClassVar[str] = ""
     params: ClassVar[tuple[Param, ...]] = ()
     reference: ClassVar[str] = ""
+    Settings: ClassVar[type] = settings_class("Planner", (), __name__)
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        cls.Settings = settings_class(cls.__name__, cls.params, cls.__module__)
 
     def __init__(self, **overrides: Any) -> None:
-        self.p: dict[str, Any] = resolve_params(type(self), overrides)
+        values = resolve_params(type(self), overrides)
+        self.settings: Any = type(self).Settings(**values)
+        self.p: Mapping[str, Any] = MappingProxyType(values)
         self._events: list[PlannerEvent] = []
         self.replans = 0
 
@@ -93,7 +115,7 @@ class Planner:
     # -- helpers ---------------------------------------------------------------
     def emit(self, kind: str, t: float, **data: Any) -> None:
         """Record an event; ``replan`` events increase :attr:`replans`."""
-        if kind == "replan":
+        if kind == REPLAN:
             self.replans += 1
         self._events.append(PlannerEvent(kind, t, data))
 

@@ -76,16 +76,16 @@ class Bug2(Planner):
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
-        p = self.p
+        p = self.settings
         self.start = np.asarray(obs.pose[:2], dtype=float).copy()
         self.goal = np.asarray(obs.goal, dtype=float).copy()
         self.mode = GO
         self.hit: np.ndarray | None = None
         self.hit_goal_distance = math.inf
-        self.side = LEFT if p["wall_side"] == "left" else RIGHT
-        self.follower = WallFollower(self.side, p["wall_distance"], p["v_max"], p["front_distance"])
-        self.memory = EchoMemory(p["memory_s"])
-        self.loop = LoopDetector(p["loop_radius"], min_length=4 * p["loop_radius"])
+        self.side = LEFT if p.wall_side == "left" else RIGHT
+        self.follower = WallFollower(self.side, p.wall_distance, p.v_max, p.front_distance)
+        self.memory = EchoMemory(p.memory_s)
+        self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius)
         self._prev_xy = self.start.copy()
         self._hits: list[list[float]] = []
 
@@ -104,22 +104,22 @@ class Bug2(Planner):
         d = goal - self.start
         along = float(np.dot(xy - self.start, d) / max(float(np.dot(d, d)), 1e-12))
         within = -0.05 <= along <= 1.05
-        return within and (abs(off) <= self.p["mline_tolerance"] or off * prev < 0.0)
+        return within and (abs(off) <= self.settings.mline_tolerance or off * prev < 0.0)
 
     # -- control ---------------------------------------------------------------------------------
     def act(self, obs: Observation) -> Command:
-        p = self.p
+        p = self.settings
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         self.memory.add(obs)
         to_goal = float(np.hypot(*(goal - xy)))
         heading = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
-        v = min(p["v_max"], obs.robot.v_max)
+        v = min(p.v_max, obs.robot.v_max)
         half_width = corridor_half_width(obs.robot)
         cmd = STOP
         if self.mode == GO:
-            ahead = obstacle_ahead(obs, p["hit_distance"], half_width)
+            ahead = obstacle_ahead(obs, p.hit_distance, half_width)
             facing = abs(math.remainder(heading - float(obs.pose[2]), 2 * math.pi)) < math.radians(30)
-            if ahead < p["hit_distance"] and facing and ahead < to_goal:
+            if ahead < p.hit_distance and facing and ahead < to_goal:
                 self.mode, self.hit, self.hit_goal_distance = FOLLOW, xy.copy(), to_goal
                 self.loop.arm(xy)
                 self.follower.start()
@@ -131,9 +131,9 @@ class Bug2(Planner):
             if self.loop.update(xy):
                 self.mode = UNREACHABLE
                 self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
-            elif (self._on_mline(xy, goal) and to_goal < self.hit_goal_distance - p["leave_margin"]
-                  and free_along(self.memory.points(xy, p["leave_clear"] + 1.0), xy, heading,
-                                 min(p["leave_clear"], to_goal), half_width)):
+            elif (self._on_mline(xy, goal) and to_goal < self.hit_goal_distance - p.leave_margin
+                  and free_along(self.memory.points(xy, p.leave_clear + 1.0), xy, heading,
+                                 min(p.leave_clear, to_goal), half_width)):
                 self.mode = GO
                 self.loop.disarm()
                 cmd = steer(obs, heading, arrival_speed(to_goal, v))

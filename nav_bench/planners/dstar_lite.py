@@ -46,7 +46,7 @@ import numpy as np
 from scipy import ndimage
 
 from nav_bench.errors import InputError
-from nav_bench.interface import Command, Observation
+from nav_bench.interface import Command, GridState, Observation
 from nav_bench.mapping.occupancy import OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import STOP, arrival_speed, pure_pursuit, steer
@@ -365,10 +365,10 @@ class DStarLite(Planner):
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
-        p = self.p
-        self.grid = OccupancyGrid(obs.bounds, cell=p["cell"])
+        p = self.settings
+        self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
         self.shape = self.grid.shape
-        self.inflate_cells = (obs.robot.radius + p["inflation_margin"]) / p["cell"]
+        self.inflate_cells = (obs.robot.radius + p.inflation_margin) / p.cell
         self.struct = disk(self.inflate_cells)
         self.occupied = np.zeros(self.shape, dtype=bool)
         self.cost = np.ones(self.shape)
@@ -397,7 +397,7 @@ class DStarLite(Planner):
 
         Inflation is recomputed only in the window around the cells whose occupancy flipped.
         """
-        occ = self.grid.values(copy=False) > self.p["occupied_above"]
+        occ = self.grid.values(copy=False) > self.settings.occupied_above
         occ[self.goal_rc] = False  # the goal cell is never lethal
         flipped = np.nonzero(occ != self.occupied)
         if len(flipped[0]) == 0:
@@ -409,7 +409,7 @@ class DStarLite(Planner):
         c0, c1 = max(flipped[1].min() - n, 0), min(flipped[1].max() + n + 1, w)
         # the window's costs depend on occupancy up to n cells beyond it
         R0, R1, C0, C1 = max(r0 - n, 0), min(r1 + n, h), max(c0 - n, 0), min(c1 + n, w)
-        sub = cell_costs(occ[R0:R1, C0:C1], self.inflate_cells, self.p["inflated_cost"])
+        sub = cell_costs(occ[R0:R1, C0:C1], self.inflate_cells, self.settings.inflated_cost)
         new = sub[r0 - R0:r1 - R0, c0 - C0:c1 - C0]
         old = self.cost[r0:r1, c0:c1]
         dr, dc = np.nonzero(new != old)
@@ -418,7 +418,7 @@ class DStarLite(Planner):
         return dr + r0, dc + c0, vals
 
     def act(self, obs: Observation) -> Command:
-        p = self.p
+        p = self.settings
         self.grid.update(obs.pose, obs.ranges, obs.robot.sonar)
         start = self._clamp(self.grid.world_to_cell(obs.pose[:2]))
         moved = start != self.search.graph.cell(self.search.start)
@@ -432,7 +432,7 @@ class DStarLite(Planner):
             self.path_xy = self._to_world(self.cells, obs.goal)
             if changed and self.cells and _path_changed(old, self.cells):
                 self.emit("replan", obs.t, changed_cells=int(changed),
-                          cost_m=float(self.search.path_cost * p["cell"]))
+                          cost_m=float(self.search.path_cost * p.cell))
         if not self.cells:
             if not self.unreachable:
                 self.emit("unreachable", obs.t)
@@ -440,20 +440,20 @@ class DStarLite(Planner):
             return STOP
         self.unreachable = False
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
-        v = min(p["v_max"], obs.robot.v_max)
+        v = min(p.v_max, obs.robot.v_max)
         if len(self.cells) <= 2:  # in the goal's cell or next to it
             d = float(np.hypot(*(goal - xy)))
             return steer(obs, math.atan2(goal[1] - xy[1], goal[0] - xy[0]), arrival_speed(d, v))
-        return pure_pursuit(obs, self.path_xy, p["lookahead"], v,
-                            turn_in_place=math.radians(p["turn_in_place_deg"]))
+        return pure_pursuit(obs, self.path_xy, p.lookahead, v,
+                            turn_in_place=math.radians(p.turn_in_place_deg))
 
     def debug_state(self) -> dict[str, Any]:
-        """``pmo`` (H, W) occupancy 0..100 with its ``bounds`` and ``cell`` (the keys EO/PC
-        uses, so plots draw it), ``cost`` (H, W) step-cost factors (inf lethal), ``path`` (N, 2) m."""
+        """The occupancy grid (:class:`~nav_bench.interface.GridState`, so plots draw it),
+        ``cost`` (H, W) step-cost factors (inf lethal), ``path`` (N, 2) m."""
         if not hasattr(self, "grid"):
             return {}
-        return {"pmo": self.grid.values(), "bounds": list(self.grid.bounds), "cell": self.grid.cell,
-                "cost": self.cost.copy(), "path": self.path_xy.copy()}
+        grids = GridState(pmo=self.grid.values(), bounds=self.grid.bounds, cell=self.grid.cell)
+        return {**grids.state(), "cost": self.cost.copy(), "path": self.path_xy.copy()}
 
 
 def _path_changed(old: list[tuple[int, int]], new: list[tuple[int, int]]) -> bool:

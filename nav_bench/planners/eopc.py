@@ -41,7 +41,15 @@ from typing import Any
 import numpy as np
 
 from nav_bench.errors import PlannerError
-from nav_bench.interface import Command, Observation, SonarInfo, wrap_angle
+from nav_bench.interface import (
+    REPLAN,
+    Command,
+    GridState,
+    Observation,
+    ReplanEvent,
+    SonarInfo,
+    wrap_angle,
+)
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.mapping.visits import VisitGrid
@@ -104,39 +112,9 @@ def steer(heading_error: float, gain: float, omega_max: float) -> float:
 
 
 # ============================================================================ PC: cost terms
-@dataclass(frozen=True)
-class PCSettings:
-    """Everything the PC decision depends on besides the grids and the breakpoint.
-
-    Units: ``RR`` and ``region_radius`` in m; ``free_below``/``occupied_above`` on the
-    PMO scale 0..100; ``visits_many`` in control cycles; ``alpha_I``/``beta_I`` on the
-    risk scale 0..100. See :attr:`EOPC.params` for the meaning of each.
-    """
-
-    RR: float = 0.5
-    n_neighbors: int = 16
-    region_radius: float = 0.25
-    free_below: float = 35.0
-    occupied_above: float = 65.0
-    visits_many: int = 20
-    alpha_I: int = 100
-    beta_I: int = 100
-    w_g: float = 1.0
-    w_h: float = 1.0
-    w_ipo: float = 1.0
-    w_ipt: float = 1.0
-    w_r: float = 1.0
-    normalize: bool = False
-    ipo_mode: str = "evidence"
-    exclude_blocked_segments: bool = True
-
-    @classmethod
-    def from_params(cls, p: dict[str, Any]) -> PCSettings:
-        """Settings from an EOPC parameter dict (``region_radius`` 0 means ``RR / 2``)."""
-        fields = {k: p[k] for k in cls.__dataclass_fields__ if k in p}
-        if not fields.get("region_radius"):
-            fields["region_radius"] = p.get("RR", cls.RR) / 2
-        return cls(**fields)
+def region_radius(settings: EOPC.Settings) -> float:
+    """Radius (m) of region A around a neighbour: ``region_radius``, or ``RR / 2`` when it is 0."""
+    return settings.region_radius or settings.RR / 2
 
 
 def neighbour_points(breakpoint: np.ndarray, heading: float, radius: float,
@@ -238,7 +216,7 @@ def risk_index(rc: np.ndarray, ri: np.ndarray) -> np.ndarray:
 
 
 def point_risks(pmo: np.ndarray, pmt: np.ndarray, frame: GridFrame, points: np.ndarray,
-                settings: PCSettings) -> tuple[np.ndarray, np.ndarray]:
+                settings: EOPC.Settings) -> tuple[np.ndarray, np.ndarray]:
     """(RC, RI) of each point's own cell. A point outside the grid gets RC 100 (beyond the map)."""
     rc_idx = frame.world_to_cell(points)
     inside = frame.contains(rc_idx[:, 0], rc_idx[:, 1])
@@ -337,7 +315,7 @@ def old_path_heading(previous_breakpoint: np.ndarray | None, point: np.ndarray,
     return math.atan2(dy, dx)
 
 
-def term_scales(settings: PCSettings, breakpoint: np.ndarray, goal: np.ndarray,
+def term_scales(settings: EOPC.Settings, breakpoint: np.ndarray, goal: np.ndarray,
                 region_size: np.ndarray) -> dict[str, np.ndarray | float]:
     """Largest possible value of each cost term (what ``normalize`` divides by).
 
@@ -428,24 +406,25 @@ class Decision:
         """The chosen point Pi (2,), m, or None."""
         return None if self.chosen is None else self.points[self.chosen]
 
-    def event_data(self) -> dict[str, Any]:
-        """Plain JSON-able lists for a ``replan`` event."""
+    def replan_event(self, t: float, trigger: str, theta_from: str, **extra: Any) -> ReplanEvent:
+        """The decision as a :class:`~nav_bench.interface.ReplanEvent` (numbers rounded to 1e-6,
+        the cost terms and risks among its details); ``extra`` goes into the details too."""
         def f(a: np.ndarray) -> list[float]:
             return [round(float(v), 6) for v in a]
 
-        return {
-            "breakpoint": f(self.breakpoint), "heading": round(float(self.heading), 6),
-            "neighbours": [f(p) for p in self.points], "theta": f(self.theta),
-            "risk": [int(v) for v in self.r], "rc": [int(v) for v in self.RC],
-            "ri": [int(v) for v in self.RI], "G": f(self.G), "H": f(self.H),
-            "IPO": f(self.IPO), "IPT": f(self.IPT), "F": f(self.F),
-            "candidate": [bool(v) for v in self.candidate],
-            "chosen": self.chosen, "tier": self.tier, "forced": self.forced,
-        }
+        bx, by = f(self.breakpoint)
+        return ReplanEvent(
+            t=t, breakpoint=(bx, by), neighbours=tuple((x, y) for x, y in map(f, self.points)),
+            risk=tuple(int(v) for v in self.r), candidate=tuple(bool(v) for v in self.candidate),
+            chosen=self.chosen, trigger=trigger, theta_from=theta_from,
+            details={"heading": round(float(self.heading), 6), "theta": f(self.theta),
+                     "rc": [int(v) for v in self.RC], "ri": [int(v) for v in self.RI],
+                     "G": f(self.G), "H": f(self.H), "IPO": f(self.IPO), "IPT": f(self.IPT),
+                     "F": f(self.F), "tier": self.tier, "forced": self.forced, **extra})
 
 
 def choose_neighbour(pmo: np.ndarray, pmt: np.ndarray, frame: GridFrame, breakpoint: np.ndarray,
-                     heading: float, goal: np.ndarray, settings: PCSettings,
+                     heading: float, goal: np.ndarray, settings: EOPC.Settings,
                      tried: Sequence[np.ndarray] = (), force: bool = False) -> Decision:
     """PC, steps 1.4-1.9 of the paper's global algorithm: score the neighbours, pick one.
 
@@ -454,7 +433,7 @@ def choose_neighbour(pmo: np.ndarray, pmt: np.ndarray, frame: GridFrame, breakpo
         frame: the grids' geometry (both grids share it).
         breakpoint: (2,) where EO stopped the robot, m. heading: robot yaw there, rad.
         goal: (2,) m.
-        settings: weights, thresholds, radii.
+        settings: the planner's settings (weights, thresholds, radii).
         tried: points (m) already chosen from this same breakpoint without the robot
             getting anywhere; neighbours within half a neighbour spacing of one are not
             candidates (they lead back into the same stop).
@@ -468,7 +447,7 @@ def choose_neighbour(pmo: np.ndarray, pmt: np.ndarray, frame: GridFrame, breakpo
     points, theta = neighbour_points(bp, heading, settings.RR, settings.n_neighbors)
     G = travel_cost(theta, settings.RR)
     H = heuristic_cost(points, goal)
-    rows, cols, member = region_cells(frame, points, settings.region_radius)
+    rows, cols, member = region_cells(frame, points, region_radius(settings))
     IPO = intensity_of_obstacles(pmo, frame, rows, cols, member, settings.ipo_mode)
     IPT = intensity_of_trajectory(pmt, frame, rows, cols, member)
     rc, ri = point_risks(pmo, pmt, frame, points, settings)
@@ -602,26 +581,25 @@ class EOPC(Planner):
     # -- episode state -----------------------------------------------------------------------
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
-        p = self.p
-        if p["lambda1"] <= p["lambda2"]:
-            raise PlannerError(f"eopc needs lambda1 > lambda2, got {p['lambda1']} and {p['lambda2']}")
-        if p["free_below"] > p["occupied_above"]:
+        p = self.settings
+        if p.lambda1 <= p.lambda2:
+            raise PlannerError(f"eopc needs lambda1 > lambda2, got {p.lambda1} and {p.lambda2}")
+        if p.free_below > p.occupied_above:
             raise PlannerError("eopc needs free_below <= occupied_above, got "
-                               f"{p['free_below']} and {p['occupied_above']}")
+                               f"{p.free_below} and {p.occupied_above}")
         sonar = obs.robot.sonar
-        self._front = front_sonars(sonar, math.radians(p["front_fov_deg"]))
+        self._front = front_sonars(sonar, math.radians(p.front_fov_deg))
         if not self._front.any():
-            raise PlannerError(f"eopc: no sonar within front_fov_deg = {p['front_fov_deg']} "
+            raise PlannerError(f"eopc: no sonar within front_fov_deg = {p.front_fov_deg} "
                                f"(mount angles {np.degrees(sonar.angles).round(1).tolist()} deg)")
-        m = p["map_margin"]
+        m = p.map_margin
         xmin, ymin, xmax, ymax = obs.bounds
         bounds = (xmin - m, ymin - m, xmax + m, ymax + m)
-        self.pmo = OccupancyGrid(bounds, p["cell"], l_occ=p["l_occ"], l_free=p["l_free"],
-                                 l_min=p["l_min"], l_max=p["l_max"], hit_thickness=p["hit_thickness"])
-        self.pmt = VisitGrid(bounds, p["cell"])
-        self.settings = PCSettings.from_params(p)
-        self._v_max = min(p["v_max"], obs.robot.v_max)
-        self._omega_max = min(p["omega_max"], obs.robot.omega_max)
+        self.pmo = OccupancyGrid(bounds, p.cell, l_occ=p.l_occ, l_free=p.l_free,
+                                 l_min=p.l_min, l_max=p.l_max, hit_thickness=p.hit_thickness)
+        self.pmt = VisitGrid(bounds, p.cell)
+        self._v_max = min(p.v_max, obs.robot.v_max)
+        self._omega_max = min(p.omega_max, obs.robot.omega_max)
         self._goal = np.asarray(obs.goal, dtype=float)[:2].copy()
         self.mode = "goal"
         self._target: np.ndarray | None = None  # Pi
@@ -634,17 +612,17 @@ class EOPC(Planner):
         self._reached = False
         self._breakpoint: np.ndarray | None = None
         self._chain_from: np.ndarray | None = None  # the breakpoint the current Pi was chosen at
-        self._corridor = obs.robot.radius if p["blocked_by"] == "corridor" else 0.0
+        self._corridor = obs.robot.radius if p.blocked_by == "corridor" else 0.0
 
     def act(self, obs: Observation) -> Command:
-        p = self.p
+        p = self.settings
         pose = np.asarray(obs.pose, dtype=float)
         x, y, yaw = float(pose[0]), float(pose[1]), float(pose[2])
         # Step 1.1: the grids, every cycle, before anything else
         self.pmo.update(pose, obs.ranges, obs.robot.sonar)
         self.pmt.add(pose[:2])
         # Step 1.2: goal reached -> stop
-        if math.hypot(self._goal[0] - x, self._goal[1] - y) < p["goal_tolerance"]:
+        if math.hypot(self._goal[0] - x, self._goal[1] - y) < p.goal_tolerance:
             if not self._reached:
                 self._reached = True
                 self.emit("goal_reached", obs.t, position=[x, y])
@@ -655,12 +633,12 @@ class EOPC(Planner):
             self._turned += wrap_angle(yaw - self._last_yaw)
             self._last_yaw = yaw
             remaining = self._turn_goal - self._turned
-            if abs(remaining) > math.radians(p["turn_tolerance_deg"]):
-                return Command(0.0, steer(remaining, p["k_heading"], self._omega_max))
+            if abs(remaining) > math.radians(p.turn_tolerance_deg):
+                return Command(0.0, steer(remaining, p.k_heading, self._omega_max))
             self.mode = "to_point"
         if self.mode == "to_point":
             assert self._target is not None
-            if math.hypot(self._target[0] - x, self._target[1] - y) <= p["waypoint_tolerance"]:
+            if math.hypot(self._target[0] - x, self._target[1] - y) <= p.waypoint_tolerance:
                 self.mode = "at_point" if self._goal_path_blocked(pose) else "goal"
         if self.mode == "at_point":  # breakpoint (b): Pi reached, the straight path is blocked
             assert self._target is not None
@@ -668,19 +646,19 @@ class EOPC(Planner):
             return self._replan(obs, pose, TRIGGER_BLOCKED_PATH, old_path)
         target = self._target if self.mode == "to_point" and self._target is not None else self._goal
         error = wrap_angle(math.atan2(target[1] - y, target[0] - x) - yaw)
-        if abs(error) > math.radians(p["align_deg"]):
+        if abs(error) > math.radians(p.align_deg):
             # a pure rotation: no translation is wanted, so EO (a speed rule) has nothing to stop
-            return Command(0.0, steer(error, p["k_heading"], self._omega_max))
+            return Command(0.0, steer(error, p.k_heading, self._omega_max))
         d = front_distance(np.asarray(obs.ranges, dtype=float), obs.robot.sonar, self._front)
-        if d < p["lambda2"]:  # Step 1.3: EO has stopped the robot -> PC
+        if d < p.lambda2:  # Step 1.3: EO has stopped the robot -> PC
             return self._replan(obs, pose, TRIGGER_EO_STOP, yaw)
-        v = eo_speed(d, self._v_max, p["lambda1"], p["lambda2"], p["v_min"])  # Step 2
-        return Command(v * math.cos(error), steer(error, p["k_heading"], self._omega_max))
+        v = eo_speed(d, self._v_max, p.lambda1, p.lambda2, p.v_min)  # Step 2
+        return Command(v * math.cos(error), steer(error, p.k_heading, self._omega_max))
 
     def _goal_path_blocked(self, pose: np.ndarray) -> bool:
         """At the arrival at Pi: is the straight path to the goal blocked on PMO? Always False
         with ``replan_on: stop`` (the robot then heads for the goal whatever PMO shows)."""
-        if self.p["replan_on"] != "blocked_path":
+        if self.settings.replan_on != "blocked_path":
             return False
         return goal_path_blocked(self.pmo.values(copy=False), self.pmo.frame, pose[:2], self._goal,
                                  self.settings.occupied_above, self._corridor)
@@ -692,28 +670,27 @@ class EOPC(Planner):
         (rad) the direction theta = 0 points to: the heading at an EO stop, the old path at
         a blocked-path breakpoint.
         """
-        p = self.p
+        p = self.settings
         bp = pose[:2].copy()
         yaw = float(pose[2])
-        if self._spot is None or math.hypot(*(bp - self._spot)) > p["retry_radius"]:
+        if self._spot is None or math.hypot(*(bp - self._spot)) > p.retry_radius:
             self._spot, self._tried, self._blocked = bp, [], 0  # a new spot: nothing tried here
         self._breakpoint = bp
         decision = choose_neighbour(
             self.pmo.values(copy=False), self.pmt.counts, self.pmo.frame, bp, theta_zero,
             self._goal, self.settings, tried=self._tried,
-            force=self._blocked >= p["max_blocked_cycles"])
+            force=self._blocked >= p.max_blocked_cycles)
         if decision.chosen is None:  # tier 3: keep the steering angle at zero, wait
             self._blocked += 1
             self.emit("blocked", obs.t, breakpoint=[float(v) for v in bp], count=self._blocked,
                       risk=[int(v) for v in decision.r], trigger=trigger)
             return Command(0.0, 0.0)
         self._blocked = 0
-        data = decision.event_data()
-        data["high_iteration_risk"] = bool(decision.RI[decision.chosen] >= self.settings.alpha_I)
-        data["retry"] = len(self._tried)
-        data["trigger"] = trigger
-        data["theta_from"] = THETA_FROM_HEADING if trigger == TRIGGER_EO_STOP else THETA_FROM_OLD_PATH
-        self.emit("replan", obs.t, **data)
+        theta_from = THETA_FROM_HEADING if trigger == TRIGGER_EO_STOP else THETA_FROM_OLD_PATH
+        event = decision.replan_event(
+            obs.t, trigger, theta_from, retry=len(self._tried),
+            high_iteration_risk=bool(decision.RI[decision.chosen] >= self.settings.alpha_I))
+        self.emit(REPLAN, obs.t, **event.data())
         target = decision.points[decision.chosen].copy()
         self._tried.append(target)
         self._chain_from, self._target = bp, target
@@ -721,21 +698,20 @@ class EOPC(Planner):
         turn = decision.turn if trigger == TRIGGER_EO_STOP else wrap_angle(theta_zero + decision.turn - yaw)
         self._turn_goal, self._turned, self._last_yaw = turn, 0.0, yaw
         self.mode = "turn"
-        if abs(self._turn_goal) <= math.radians(p["turn_tolerance_deg"]):
+        if abs(self._turn_goal) <= math.radians(p.turn_tolerance_deg):
             self.mode = "to_point"  # Y = 0: nothing to turn; drive (EO decides) from next cycle
             return Command(0.0, 0.0)
-        return Command(0.0, steer(self._turn_goal, p["k_heading"], self._omega_max))
+        return Command(0.0, steer(self._turn_goal, p.k_heading, self._omega_max))
 
     def debug_state(self) -> dict[str, Any]:
         if not hasattr(self, "pmo"):
             return {}
         target = (self._target if self.mode in ("turn", "to_point", "at_point") and self._target is not None
                   else self._goal)
+        grids = GridState(pmo=self.pmo.values(), pmt=self.pmt.counts.copy(),
+                          bounds=self.pmo.bounds, cell=self.pmo.cell)
         return {
-            "pmo": self.pmo.values(),
-            "pmt": self.pmt.counts.copy(),
-            "bounds": list(self.pmo.bounds),
-            "cell": self.pmo.cell,
+            **grids.state(),
             "target": [float(target[0]), float(target[1])],
             "mode": self.mode,
             "breakpoint": None if self._breakpoint is None else [float(v) for v in self._breakpoint],

@@ -42,29 +42,29 @@ class GoalSeek(Planner):
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
-        p = self.p
-        if p["slow_distance"] <= p["stop_distance"]:
+        p = self.settings
+        if p.slow_distance <= p.stop_distance:
             raise PlannerError("goal_seek needs slow_distance > stop_distance, got "
-                               f"{p['slow_distance']} and {p['stop_distance']}")
-        self._front = front_sonars(obs.robot.sonar, math.radians(p["front_fov_deg"]))
-        self._v_max = min(p["v_max"], obs.robot.v_max)
-        self._omega_max = min(p["omega_max"], obs.robot.omega_max)
+                               f"{p.slow_distance} and {p.stop_distance}")
+        self._front = front_sonars(obs.robot.sonar, math.radians(p.front_fov_deg))
+        self._v_max = min(p.v_max, obs.robot.v_max)
+        self._omega_max = min(p.omega_max, obs.robot.omega_max)
         self._mode = "goal"
 
     def act(self, obs: Observation) -> Command:
-        p = self.p
+        p = self.settings
         x, y, yaw = (float(v) for v in obs.pose[:3])
         gx, gy = float(obs.goal[0]), float(obs.goal[1])
-        if math.hypot(gx - x, gy - y) < p["goal_tolerance"]:
+        if math.hypot(gx - x, gy - y) < p.goal_tolerance:
             self._mode = "reached"
             return Command(0.0, 0.0)
         error = wrap_angle(math.atan2(gy - y, gx - x) - yaw)
-        omega = steer(error, p["k_heading"], self._omega_max)
-        if abs(error) > math.radians(p["align_deg"]):
+        omega = steer(error, p.k_heading, self._omega_max)
+        if abs(error) > math.radians(p.align_deg):
             self._mode = "turn"
             return Command(0.0, omega)
         d = front_distance(np.asarray(obs.ranges, dtype=float), obs.robot.sonar, self._front)
-        v = eo_speed(d, self._v_max, p["slow_distance"], p["stop_distance"], p["v_min"])
+        v = eo_speed(d, self._v_max, p.slow_distance, p.stop_distance, p.v_min)
         self._mode = "goal" if v > 0 else "stopped"
         return Command(v * math.cos(error), omega)
 

@@ -119,8 +119,8 @@ class TangentBug(Planner):
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
-        p = self.p
-        self.memory = EchoMemory(p["memory_s"])
+        p = self.settings
+        self.memory = EchoMemory(p.memory_s)
         self.mode = GO
         self.h_min = math.inf
         self.stall = 0
@@ -128,22 +128,22 @@ class TangentBug(Planner):
         self.follower: WallFollower | None = None
         self.acquired = False
         self.d_followed = math.inf
-        self.loop = LoopDetector(p["loop_radius"], min_length=4 * p["loop_radius"])
-        self.bins = np.linspace(-math.pi, math.pi, p["directions"], endpoint=False)
+        self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius)
+        self.bins = np.linspace(-math.pi, math.pi, p.directions, endpoint=False)
         self._endpoint: list[float] | None = None
         self._prev_xy = np.asarray(obs.pose[:2], dtype=float).copy()
         self._follow_starts: list[list[float]] = []
 
     # -- the local range function ------------------------------------------------------------------
     def _sensing_range(self, obs: Observation) -> float:
-        return self.p["sensing_range"] or obs.robot.sonar.max_range
+        return self.settings.sensing_range or obs.robot.sonar.max_range
 
     def _endpoints(self, obs: Observation, xy: np.ndarray, goal: np.ndarray
                    ) -> tuple[bool, float, list[tuple[float, float, int]]]:
         """(goal direction free?, free length toward the goal (m), endpoints as
         (heading rad, h m, side to keep the obstacle on))."""
         r_sense = self._sensing_range(obs)
-        grow = obs.robot.radius + self.p["clearance"]
+        grow = obs.robot.radius + self.settings.clearance
         pts = self.memory.points(xy, r_sense)
         d_goal = float(np.hypot(*(goal - xy)))
         theta_g = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
@@ -170,19 +170,19 @@ class TangentBug(Planner):
 
     # -- control -----------------------------------------------------------------------------------
     def _start_following(self, obs: Observation, xy: np.ndarray, side: int) -> None:
-        p = self.p
+        p = self.settings
         self.mode, self.side, self.acquired = FOLLOW, side, False
-        self.follower = WallFollower(side, p["wall_distance"], p["v_max"], p["front_distance"])
+        self.follower = WallFollower(side, p.wall_distance, p.v_max, p.front_distance)
         self.d_followed = math.inf
         self.loop.arm(xy)
         self._follow_starts.append([float(xy[0]), float(xy[1])])
         self.emit("replan", obs.t, reason="follow_boundary", side="left" if side == LEFT else "right")
 
     def act(self, obs: Observation) -> Command:
-        p = self.p
+        p = self.settings
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         self.memory.add(obs)
-        v = min(p["v_max"], obs.robot.v_max)
+        v = min(p.v_max, obs.robot.v_max)
         d_goal = float(np.hypot(*(goal - xy)))
         theta_g = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
         free, free_len, endpoints = self._endpoints(obs, xy, goal)
@@ -192,11 +192,11 @@ class TangentBug(Planner):
             return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
         if self.mode == UNREACHABLE:
             return STOP
-        ahead = obstacle_ahead(obs, p["front_distance"], corridor_half_width(obs.robot))
+        ahead = obstacle_ahead(obs, p.front_distance, corridor_half_width(obs.robot))
         if free:
             self._endpoint = None
             self.h_min, self.stall = min(self.h_min, d_goal), 0
-            if ahead < min(p["front_distance"], d_goal):  # an obstacle the memory did not show
+            if ahead < min(p.front_distance, d_goal):  # an obstacle the memory did not show
                 side = RIGHT if wrap_angle(theta_g - float(obs.pose[2])) >= 0 else LEFT
                 self._start_following(obs, xy, side)
                 return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
@@ -208,11 +208,11 @@ class TangentBug(Planner):
         if self._endpoint is None:  # the goal just got blocked: h starts afresh
             self.h_min, self.stall = math.inf, 0
         self._endpoint = [heading, h]
-        if h < self.h_min - p["h_epsilon"]:
+        if h < self.h_min - p.h_epsilon:
             self.h_min, self.stall = h, 0
         elif moved > 0.01:  # h_min is not lowered here, so a slow steady decrease still counts;
             self.stall += 1  # turning on the spot toward an endpoint is not a stall
-        if self.stall >= p["stall_cycles"] or ahead < p["front_distance"]:
+        if self.stall >= p.stall_cycles or ahead < p.front_distance:
             self._start_following(obs, xy, side)
             return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
         return steer(obs, heading, v)
@@ -220,11 +220,11 @@ class TangentBug(Planner):
     def _follow(self, obs: Observation, xy: np.ndarray, goal: np.ndarray, d_goal: float,
                 theta_g: float, free_len: float, endpoints: list[tuple[float, float, int]],
                 v: float) -> Command:
-        p = self.p
+        p = self.settings
         assert self.follower is not None
         # near echoes ahead and on the followed side belong to the followed obstacle
         rel = self.side * obs.robot.sonar.angles
-        near = np.asarray(obs.ranges) < p["wall_distance"] + 0.6
+        near = np.asarray(obs.ranges) < p.wall_distance + 0.6
         side_echo = echo_mask(obs) & near & (rel > math.radians(-20))
         if side_echo.any():
             hits = obs.sonar_hits()[side_echo]
@@ -236,14 +236,14 @@ class TangentBug(Planner):
         half_fov = float(np.max(np.abs(obs.robot.sonar.angles))) + obs.robot.sonar.cone / 2
         in_view = abs(wrap_angle(theta_g - float(obs.pose[2]))) <= half_fov
         d_reach = d_goal - free_len if in_view else math.inf
-        if self.acquired and d_reach < self.d_followed - p["leave_margin"]:
+        if self.acquired and d_reach < self.d_followed - p.leave_margin:
             self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
             self.loop.disarm()
             return steer(obs, theta_g, arrival_speed(d_goal, v))
         if not self.acquired:  # first approach the boundary: head for the nearest echo
-            wall = estimate_wall(obs, self.side, lost=p["wall_distance"] + 0.6)
-            close = wall is not None and wall.distance <= p["wall_distance"] + 0.1
-            near = obstacle_ahead(obs, p["front_distance"], corridor_half_width(obs.robot)) < p["front_distance"]
+            wall = estimate_wall(obs, self.side, lost=p.wall_distance + 0.6)
+            close = wall is not None and wall.distance <= p.wall_distance + 0.1
+            near = obstacle_ahead(obs, p.front_distance, corridor_half_width(obs.robot)) < p.front_distance
             pts = self.memory.points(xy, self._sensing_range(obs))
             self.acquired = close or near or len(pts) == 0
             if not self.acquired:

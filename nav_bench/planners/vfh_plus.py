@@ -236,9 +236,9 @@ class VFHPlus(Planner):
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
-        p = self.p
-        self.grid = CertaintyGrid(obs.bounds, p["cell"], p["increment"], p["c_max"])
-        self.n = max(4, round(360.0 / p["sector_deg"]))
+        p = self.settings
+        self.grid = CertaintyGrid(obs.bounds, p.cell, p.increment, p.c_max)
+        self.n = max(4, round(360.0 / p.sector_deg))
         self.alpha = 2 * math.pi / self.n
         self.binary = np.zeros(self.n, dtype=bool)
         self.k_prev = self._sector(float(obs.pose[2]))
@@ -252,26 +252,26 @@ class VFHPlus(Planner):
         return (angle % (2 * math.pi)) / self.alpha
 
     def act(self, obs: Observation) -> Command:
-        p = self.p
+        p = self.settings
         robot = obs.robot
         self.grid.update(obs)
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         yaw = float(obs.pose[2])
         d_goal = float(np.hypot(*(goal - xy)))
-        r_rs = robot.radius + p["safety_distance"]
+        r_rs = robot.radius + p.safety_distance
         # obstacles beyond the goal cannot block the way to it: the window shrinks to the goal
-        cells, cert = self.grid.active(xy, min(p["window_radius"], d_goal))
-        self.primary = polar_histogram(cells, cert, xy, self.n, r_rs, p["window_radius"],
-                                       p["distance_weight"])
-        self.binary = binary_histogram(self.primary, self.binary, p["threshold_low"], p["threshold_high"])
+        cells, cert = self.grid.active(xy, min(p.window_radius, d_goal))
+        self.primary = polar_histogram(cells, cert, xy, self.n, r_rs, p.window_radius,
+                                       p.distance_weight)
+        self.binary = binary_histogram(self.primary, self.binary, p.threshold_low, p.threshold_high)
         radius_turn = abs(self.v_prev) / robot.omega_max
-        phi_r, phi_l = turning_limits(cells, cert, obs.pose, radius_turn, r_rs, p["mask_certainty"])
+        phi_r, phi_l = turning_limits(cells, cert, obs.pose, radius_turn, r_rs, p.mask_certainty)
         self.masked = masked_histogram(self.binary, yaw, phi_r, phi_l)
         k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
         k_heading = self._sector(yaw)
-        cands = candidate_directions(self.masked, k_target, p["s_max"])
+        cands = candidate_directions(self.masked, k_target, p.s_max)
         k = choose_direction(cands, k_target, k_heading, self.k_prev, self.n,
-                             (p["mu_goal"], p["mu_heading"], p["mu_previous"]))
+                             (p.mu_goal, p.mu_heading, p.mu_previous))
         if k is None:  # no valley: stop and turn on the spot so the front sonars scan
             if not self.blocked:
                 self.emit("blocked", obs.t)
@@ -284,11 +284,11 @@ class VFHPlus(Planner):
         if abs(err) > 1e-9:
             self.turn_sign = math.copysign(1.0, err)
         omega = 2.5 * err
-        if abs(err) > math.radians(p["turn_in_place_deg"]):
+        if abs(err) > math.radians(p.turn_in_place_deg):
             v = 0.0
         else:
             density = float(self.primary[round(k_heading) % self.n])
-            v = min(p["v_max"], robot.v_max) * (1.0 - min(density, p["slow_density"]) / p["slow_density"])
+            v = min(p.v_max, robot.v_max) * (1.0 - min(density, p.slow_density) / p.slow_density)
             v = arrival_speed(d_goal, v) * max(0.0, math.cos(err))
         cmd = limit(v, omega, robot)
         self.v_prev = cmd.v

@@ -20,10 +20,17 @@ from matplotlib.colors import LogNorm
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+from nav_bench.interface import (
+    NO_RISK_COLOR,
+    REPLAN,
+    RISK_COLORS,
+    GridState,
+    PlannerEvent,
+    ReplanEvent,
+)
 from nav_bench.specs import WorldSpec
 from nav_bench.world.draw import draw_world, obstacle_patches
 
-RISK_COLORS = {0: "#2ca02c", 50: "#ff9f1c", 100: "#d62728"}  # SAFE green, medium orange, high red
 TRUE_COLOR, ODOM_COLOR = "#1f4e9c", "#e377c2"
 CHAIN_COLOR = "#111111"
 # How each kind of breakpoint is marked (paper, Fig. 4): where EO stopped the robot, and where PC
@@ -36,37 +43,22 @@ BREAKPOINT_STYLE = {
 MAX_NEIGHBOUR_SETS = 40  # neighbours are drawn for the last this-many re-plans (more only clutter)
 
 
-def event_fields(event: Any) -> tuple[str, float, dict[str, Any]]:
-    """(kind, t, data) of an event given as a dict ``{kind, t, data}`` or a PlannerEvent."""
-    if isinstance(event, dict):
-        return str(event.get("kind", "")), float(event.get("t", 0.0)), dict(event.get("data") or {})
-    return str(event.kind), float(event.t), dict(event.data)
+def replans(events: Iterable[Any]) -> list[ReplanEvent]:
+    """Every ``replan`` event that carries a breakpoint and neighbours (EO/PC's), in order."""
+    return [plan for plan in map(ReplanEvent.from_event, events) if plan is not None]
 
 
-def replans(events: Iterable[Any]) -> list[dict[str, Any]]:
-    """The data of every ``replan`` event that carries neighbours (EO/PC's)."""
-    out = []
-    for e in events:
-        kind, t, data = event_fields(e)
-        if kind == "replan" and "breakpoint" in data and "neighbours" in data:
-            out.append({"t": t, **data})
-    return out
-
-
-def chain_vertices(plans: list[dict[str, Any]]) -> np.ndarray:
+def chain_vertices(plans: list[ReplanEvent]) -> np.ndarray:
     """(2N, 2) the planned path as a chain: breakpoint 1, Pi 1, breakpoint 2, Pi 2, ... (m).
 
     After a re-plan the path is breakpoint -> Pi -> goal; the chain joins each Pi to the next
     breakpoint, which is Pi itself (a blocked-path breakpoint) or where EO stopped the robot
     on the way on. Re-plans without a chosen point are skipped.
     """
-    pts: list[list[float]] = []
+    pts: list[tuple[float, float]] = []
     for plan in plans:
-        chosen = plan.get("chosen")
-        if chosen is None:
-            continue
-        pts.append([float(v) for v in plan["breakpoint"]])
-        pts.append([float(v) for v in plan["neighbours"][int(chosen)]])
+        if plan.chosen is not None:
+            pts += [plan.breakpoint, plan.neighbours[plan.chosen]]
     return np.asarray(pts, dtype=float).reshape(-1, 2)
 
 
@@ -75,7 +67,7 @@ def label_step(n: int) -> int:
     return max(1, -(-n // 40))
 
 
-def draw_chain(ax: Axes, plans: list[dict[str, Any]], marker_size: float = 16,
+def draw_chain(ax: Axes, plans: list[ReplanEvent], marker_size: float = 16,
                numbers: bool = True) -> None:
     """The chain of breakpoints as the paper's Fig. 4 draws it: the segments breakpoint -> Pi
     -> next breakpoint, each breakpoint numbered in order and marked by what made PC run
@@ -85,19 +77,13 @@ def draw_chain(ax: Axes, plans: list[dict[str, Any]], marker_size: float = 16,
         ax.plot(chain[:, 0], chain[:, 1], color=CHAIN_COLOR, lw=0.8, zorder=6)
     step = label_step(len(plans))
     for k, plan in enumerate(plans, start=1):
-        bx, by = (float(v) for v in plan["breakpoint"])
-        style = BREAKPOINT_STYLE.get(str(plan.get("trigger", "eo_stop")), BREAKPOINT_STYLE["eo_stop"])
+        bx, by = plan.breakpoint
+        style = BREAKPOINT_STYLE.get(plan.trigger, BREAKPOINT_STYLE["eo_stop"])
         ax.scatter([bx], [by], s=marker_size * 1.6, marker=style["marker"], facecolors=style["facecolor"],
                    edgecolors=style["edgecolor"], linewidths=0.7, zorder=8)
         if numbers and (k % step == 0 or k == 1 or k == len(plans)):
             ax.annotate(str(k), (bx, by), xytext=(3, 3), textcoords="offset points", fontsize=6,
                         zorder=9, color=CHAIN_COLOR)
-
-
-def grid_extent(state: dict[str, Any]) -> list[float]:
-    """imshow extent [xmin, xmax, ymin, ymax] of a planner grid (row 0 at ymin)."""
-    xmin, ymin, xmax, ymax = (float(v) for v in state["bounds"])
-    return [xmin, xmax, ymin, ymax]
 
 
 def draw_outlines(ax: Axes, world: WorldSpec) -> None:
@@ -106,30 +92,30 @@ def draw_outlines(ax: Axes, world: WorldSpec) -> None:
                                       zorder=2))
 
 
-def draw_pmo(ax: Axes, state: dict[str, Any], alpha: float = 0.9) -> Any:
+def draw_pmo(ax: Axes, grids: GridState, alpha: float = 0.9) -> Any:
     """PMO as grey levels: white free, mid-grey unknown, black occupied."""
-    return ax.imshow(np.asarray(state["pmo"]), origin="lower", extent=grid_extent(state),
+    return ax.imshow(grids.pmo, origin="lower", extent=grids.extent,
                      cmap="Greys", vmin=0, vmax=100, alpha=alpha, interpolation="nearest", zorder=0)
 
 
-def draw_pmt(ax: Axes, state: dict[str, Any]) -> Any:
+def draw_pmt(ax: Axes, grids: GridState) -> Any:
     """PMT visit counts on a log colour scale; never-visited cells transparent."""
-    counts = np.asarray(state["pmt"], dtype=float)
+    counts = np.asarray(grids.pmt, dtype=float)
     masked = np.ma.masked_less_equal(counts, 0)
     vmax = max(2.0, float(counts.max()))
-    return ax.imshow(masked, origin="lower", extent=grid_extent(state), cmap="viridis",
+    return ax.imshow(masked, origin="lower", extent=grids.extent, cmap="viridis",
                      norm=LogNorm(vmin=1, vmax=vmax), interpolation="nearest", zorder=3)
 
 
-def draw_replans(ax: Axes, plans: list[dict[str, Any]], marker_size: float = 16) -> None:
+def draw_replans(ax: Axes, plans: list[ReplanEvent], marker_size: float = 16) -> None:
     """The chain of breakpoints (:func:`draw_chain`) and, for the last ``MAX_NEIGHBOUR_SETS``
     re-plans, the neighbours coloured by risk (hollow: not a candidate) and the choice (star)."""
     draw_chain(ax, plans, marker_size)
     for plan in plans[-MAX_NEIGHBOUR_SETS:]:
-        pts = np.asarray(plan["neighbours"], dtype=float)
-        risk = plan.get("risk", [100] * len(pts))
-        cand = plan.get("candidate", [True] * len(pts))
-        colors = [RISK_COLORS.get(int(r), "#7f7f7f") for r in risk]
+        pts = np.asarray(plan.neighbours, dtype=float)
+        risk = plan.risk or (100,) * len(pts)
+        cand = plan.candidate or (True,) * len(pts)
+        colors = [RISK_COLORS.get(r, NO_RISK_COLOR) for r in risk]
         for filled in (True, False):
             sel = [i for i in range(len(pts)) if bool(cand[i]) == filled]
             if not sel:
@@ -137,10 +123,9 @@ def draw_replans(ax: Axes, plans: list[dict[str, Any]], marker_size: float = 16)
             ax.scatter(pts[sel, 0], pts[sel, 1], s=marker_size, linewidths=0.9, zorder=6,
                        facecolors=[colors[i] for i in sel] if filled else "none",
                        edgecolors=[colors[i] for i in sel])
-        chosen = plan.get("chosen")
-        if chosen is not None:
-            cx, cy = pts[int(chosen)]
-            ax.scatter([cx], [cy], s=marker_size * 4, marker="*", facecolors=colors[int(chosen)],
+        if plan.chosen is not None:
+            cx, cy = pts[plan.chosen]
+            ax.scatter([cx], [cy], s=marker_size * 4, marker="*", facecolors=colors[plan.chosen],
                        edgecolors="black", linewidths=0.6, zorder=7)
 
 
@@ -168,7 +153,7 @@ def episode_title(trace: Any) -> str:
     true = np.asarray(trace.true_pose)
     length = row.get("path_length_m",
                      float(np.hypot(*np.diff(true[:, :2], axis=0).T).sum()) if len(true) > 1 else 0.0)
-    n_replans = row.get("replans", sum(event_fields(e)[0] == "replan" for e in trace.events))
+    n_replans = row.get("replans", sum(PlannerEvent.of(e).kind == REPLAN for e in trace.events))
     seed = f", seed {row['seed']}" if "seed" in row else ""
     events = row.get("events") or {}
     stops = events.get("replan.eo_stop")
@@ -192,7 +177,7 @@ def legend_handles(has_grids: bool, has_plans: bool) -> list[Line2D]:
             Line2D([], [], color=CHAIN_COLOR, lw=0.8, label="planned path: breakpoint -> Pi (numbered)"),
             *[Line2D([], [], color=c, marker="o", ls="none", label=f"neighbour, risk {r}")
               for r, c in RISK_COLORS.items()],
-            Line2D([], [], color="#7f7f7f", marker="o", mfc="none", ls="none",
+            Line2D([], [], color=NO_RISK_COLOR, marker="o", mfc="none", ls="none",
                    label="not a candidate (blocked / tried)"),
             Line2D([], [], color="black", marker="*", mfc="#2ca02c", ms=10, ls="none",
                    label="chosen point Pi"),
@@ -210,18 +195,18 @@ def plot_episode(trace: Any, path: str | Path, title: str | None = None, dpi: in
 
     Returns the path written.
     """
-    state = getattr(trace, "planner_state", None) or {}
-    has_grids = "pmo" in state and "bounds" in state
+    grids = GridState.from_state(getattr(trace, "planner_state", None))
+    has_grids = grids is not None
     plans = replans(trace.events)
     sx, sy = trace.world.size
     width, height = 5.2 * sx / max(sx, sy), 5.2 * sy / max(sx, sy)  # inches per panel
-    ncols = 2 if has_grids and "pmt" in state else 1
+    ncols = 2 if grids is not None and grids.pmt is not None else 1
     fig = Figure(figsize=(ncols * (width + 0.7), height + 1.5), layout="constrained")
     axes = fig.subplots(1, ncols, squeeze=False)[0]
 
     ax = axes[0]
-    if has_grids:
-        draw_pmo(ax, state)
+    if grids is not None:
+        draw_pmo(ax, grids)
         draw_outlines(ax, trace.world)
     draw_world(ax, trace.world, faint=True)
     draw_paths(ax, trace)
@@ -234,7 +219,7 @@ def plot_episode(trace: Any, path: str | Path, title: str | None = None, dpi: in
     if ncols == 2:
         ax2 = axes[1]
         draw_world(ax2, trace.world, faint=True)
-        image = draw_pmt(ax2, state)
+        image = draw_pmt(ax2, grids)
         draw_paths(ax2, trace, light=True)
         ax2.set_title("visits PMT (control cycles per cell)", fontsize=10)
         fig.colorbar(image, ax=ax2, shrink=0.8, label="cycles in cell")

@@ -24,16 +24,14 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
 from nav_bench.errors import InputError
+from nav_bench.interface import NO_RISK_COLOR, RISK_COLORS, GridState, ReplanEvent
 from nav_bench.reporting.episode_plot import (
     BREAKPOINT_STYLE,
     CHAIN_COLOR,
-    RISK_COLORS,
     TRUE_COLOR,
     chain_vertices,
-    event_fields,
-    grid_extent,
 )
-from nav_bench.specs import WorldSpec
+from nav_bench.specs import WorldSpec, default_robot_radius
 from nav_bench.world.draw import draw_world
 
 NON_INTERACTIVE = {"agg", "pdf", "ps", "svg", "pgf", "cairo", "template"}
@@ -63,13 +61,13 @@ class LiveView:
         show: open a matplotlib window (interactive backend needed, else :class:`InputError`).
         save: ``.gif`` or ``.mp4`` path for an animation, or None.
         fps: playback frames per second of the file (default ``1 / every_s``: real time).
-        robot_radius: m, for the robot's outline.
+        robot_radius: m, for the robot's outline (default: the default robot's).
         dpi, size_in: frame resolution and size (inches, longest side).
     """
 
     def __init__(self, world: WorldSpec, every_s: float = 0.5, show: bool = False,
                  save: str | Path | None = None, *, fps: float | None = None,
-                 robot_radius: float = 0.18, dpi: int = 80, size_in: float = 6.0) -> None:
+                 robot_radius: float | None = None, dpi: int = 80, size_in: float = 6.0) -> None:
         if every_s <= 0:
             raise InputError(f"live view: every_s must be > 0, got {every_s!r}")
         self.world, self.every_s = world, float(every_s)
@@ -80,8 +78,8 @@ class LiveView:
         self._next_t = -np.inf
         self._trail: list[tuple[float, float]] = []
         self._last: tuple[float, np.ndarray, dict[str, Any]] | None = None
-        self._plan: dict[str, Any] | None = None
-        self._plans: list[dict[str, Any]] = []  # every re-plan so far: the chain
+        self._plan: ReplanEvent | None = None
+        self._plans: list[ReplanEvent] = []  # every re-plan so far: the chain
         self._numbered = 0  # breakpoints already given their number
         self._drawn_since_update = False
         self._gif_frames: list[Any] = []
@@ -95,7 +93,7 @@ class LiveView:
                 raise InputError("live view: writing .mp4 needs ffmpeg: pip install "
                                  "\"nav-bench[video]\" (or put ffmpeg on the PATH), or record "
                                  "a .gif instead")
-        self._make_figure(show, size_in, robot_radius)
+        self._make_figure(show, size_in, default_robot_radius() if robot_radius is None else robot_radius)
         if self.save is not None:
             self.save.parent.mkdir(parents=True, exist_ok=True)
             if self.save.suffix.lower() == ".mp4":
@@ -160,10 +158,10 @@ class LiveView:
         pose = np.asarray(true_pose, dtype=float)
         self._trail.append((float(pose[0]), float(pose[1])))
         for e in events or ():
-            kind, _, data = event_fields(e)
-            if kind == "replan" and "neighbours" in data:
-                self._plan = data
-                self._plans.append(data)
+            plan = ReplanEvent.from_event(e)
+            if plan is not None:
+                self._plan = plan
+                self._plans.append(plan)
         self._last = (float(t), pose, dict(planner_state or {}))
         self._drawn_since_update = False
         if t + 1e-9 >= self._next_t:
@@ -198,9 +196,10 @@ class LiveView:
     def _draw(self) -> None:
         assert self._last is not None
         t, pose, state = self._last
-        if "pmo" in state and "bounds" in state:
-            self._image.set_data(np.asarray(state["pmo"]))
-            self._image.set_extent(grid_extent(state))
+        grids = GridState.from_state(state)
+        if grids is not None:
+            self._image.set_data(grids.pmo)
+            self._image.set_extent(grids.extent)
             self._image.set_visible(True)
         trail = np.asarray(self._trail)
         self._path.set_data(trail[:, 0], trail[:, 1])
@@ -211,13 +210,13 @@ class LiveView:
         target = state.get("target")
         self._target.set_data(*(([x, target[0]], [y, target[1]]) if target is not None else ([], [])))
         if self._plan is not None:
-            pts = np.asarray(self._plan["neighbours"], dtype=float)
-            colors = [RISK_COLORS.get(int(v), "#7f7f7f") for v in self._plan.get("risk", [])]
-            cand = self._plan.get("candidate", [True] * len(pts))
+            pts = np.asarray(self._plan.neighbours, dtype=float)
+            colors = [RISK_COLORS.get(v, NO_RISK_COLOR) for v in self._plan.risk]
+            cand = self._plan.candidate or (True,) * len(pts)
             self._neighbours.set_offsets(pts)
             self._neighbours.set_edgecolors(colors)
             self._neighbours.set_facecolors([c if k else "none" for c, k in zip(colors, cand, strict=False)])
-            chosen = self._plan.get("chosen")
+            chosen = self._plan.chosen
             self._chosen.set_data(*(([pts[chosen, 0]], [pts[chosen, 1]]) if chosen is not None else ([], [])))
             self._draw_chain()
         mode = state.get("mode")
@@ -238,11 +237,11 @@ class LiveView:
         chain = chain_vertices(self._plans)
         self._chain.set_data(chain[:, 0], chain[:, 1])
         for trigger, points in self._breakpoints.items():
-            xy = [p["breakpoint"] for p in self._plans if p.get("trigger", "eo_stop") == trigger]
+            xy = [p.breakpoint for p in self._plans if p.trigger == trigger]
             points.set_offsets(np.asarray(xy, dtype=float).reshape(-1, 2))
         for k in range(self._numbered + 1, len(self._plans) + 1):
             if k <= 40 or k % 10 == 0:
-                bx, by = self._plans[k - 1]["breakpoint"]
+                bx, by = self._plans[k - 1].breakpoint
                 self.ax.annotate(str(k), (bx, by), xytext=(3, 3), textcoords="offset points",
                                  fontsize=6, color=CHAIN_COLOR, zorder=9)
         self._numbered = len(self._plans)

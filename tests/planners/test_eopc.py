@@ -20,7 +20,6 @@ from nav_bench.interface import Command, Observation
 from nav_bench.mapping import GridFrame
 from nav_bench.planners.eopc import (
     EOPC,
-    PCSettings,
     choose_neighbour,
     collision_risk,
     crossed_cells,
@@ -35,6 +34,7 @@ from nav_bench.planners.eopc import (
     neighbour_points,
     old_path_heading,
     region_cells,
+    region_radius,
     risk_index,
     select_neighbour,
     term_scales,
@@ -58,7 +58,7 @@ def grids(pmo: int = 0, pmt: int = 0) -> tuple[np.ndarray, np.ndarray]:
 def decide(pmo: np.ndarray, pmt: np.ndarray, goal: np.ndarray = GOAL_AHEAD, **kw: object):
     force = bool(kw.pop("force", False))
     tried = kw.pop("tried", ())
-    return choose_neighbour(pmo, pmt, FRAME, BP, 0.0, goal, PCSettings(**kw), tried=tried, force=force)
+    return choose_neighbour(pmo, pmt, FRAME, BP, 0.0, goal, EOPC.Settings(**kw), tried=tried, force=force)
 
 
 # ------------------------------------------------------------------ Table 1, quantisation
@@ -160,7 +160,7 @@ def test_normalize_divides_each_term_by_its_largest_value() -> None:
     d = decide(pmo, pmt, exclude_blocked_segments=False, normalize=True)
     expected = 0.0 + 1.0 / (1.5 + 0.5) + 100.0 / (A_CELLS * 100) + 10.0 / (A_CELLS * 20) + 50 / 100
     assert d.F[0] == pytest.approx(expected)
-    scales = term_scales(PCSettings(), BP, GOAL_AHEAD, np.array([A_CELLS]))
+    scales = term_scales(EOPC.Settings(), BP, GOAL_AHEAD, np.array([A_CELLS]))
     assert scales["G"] == pytest.approx(0.5 * math.pi) and scales["r"] == 100
 
 
@@ -245,7 +245,7 @@ def test_a_neighbour_behind_an_occupied_cell_is_never_chosen() -> None:
 def test_neighbours_beyond_the_map_are_not_candidates() -> None:
     pmo, pmt = grids()
     d = choose_neighbour(pmo, pmt, FRAME, np.array([3.75, 2.05]), 0.0, np.array([5.0, 2.05]),
-                         PCSettings())
+                         EOPC.Settings())
     assert d.RC[0] == 100 and not d.candidate[0]  # (4.25, 2.05) is outside the 4 m grid
     assert d.chosen not in (0, 1, 15)
 
@@ -258,9 +258,9 @@ def test_points_already_tried_are_not_candidates() -> None:
     assert again.chosen != first.chosen
 
 
-def test_event_data_is_plain_json() -> None:
+def test_the_replan_event_is_plain_json() -> None:
     d = decide(*grids())
-    data = json.loads(json.dumps(d.event_data()))
+    data = json.loads(json.dumps(d.replan_event(0.0, "eo_stop", "heading").data()))
     assert len(data["neighbours"]) == 16 and len(data["risk"]) == 16
     assert data["chosen"] == 0 and data["tier"] == 1 and data["candidate"] == [True] * 16
 
@@ -344,8 +344,11 @@ def test_a_boxed_in_robot_tries_each_direction_once_then_waits_blocked() -> None
 
 
 def test_parameters_and_settings() -> None:
-    assert PCSettings.from_params(EOPC().p).region_radius == pytest.approx(0.25)  # 0 means RR/2
-    assert PCSettings.from_params(EOPC(RR=0.6, region_radius=0.4).p).region_radius == 0.4
+    assert region_radius(EOPC().settings) == pytest.approx(0.25)  # 0 means RR/2
+    assert region_radius(EOPC(RR=0.6, region_radius=0.4).settings) == 0.4
+    assert EOPC(RR=0.6).settings.RR == 0.6 and EOPC(RR=0.6).p["RR"] == 0.6  # p: read-only view
+    with pytest.raises(TypeError):
+        EOPC().p["RR"] = 0.7
     with pytest.raises(InputError, match="lambda"):
         EOPC(lambda_1=0.9)
     with pytest.raises(InputError):

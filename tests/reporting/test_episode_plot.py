@@ -8,7 +8,7 @@ from types import SimpleNamespace
 import numpy as np
 from PIL import Image
 
-from nav_bench.interface import Observation, RobotInfo, SonarInfo
+from nav_bench.interface import Observation, ReplanEvent, RobotInfo, SonarInfo
 from nav_bench.planners.base import Planner
 from nav_bench.planners.eopc import EOPC
 from nav_bench.planners.goal_seek import GoalSeek
@@ -71,9 +71,9 @@ def test_any_planner_gets_a_single_panel_and_a_title_from_the_trace(tmp_path) ->
 
 
 def test_the_chain_joins_breakpoints_and_chosen_points_in_order() -> None:
-    plans = [{"breakpoint": [1.0, 1.0], "neighbours": [[1.5, 1.0], [1.0, 1.5]], "chosen": 1},
-             {"breakpoint": [1.0, 1.5], "neighbours": [[1.5, 1.5], [1.0, 2.0]], "chosen": None},
-             {"breakpoint": [1.02, 1.5], "neighbours": [[1.52, 1.5], [1.0, 2.0]], "chosen": 0}]
+    plans = [ReplanEvent(0.0, (1.0, 1.0), ((1.5, 1.0), (1.0, 1.5)), chosen=1),
+             ReplanEvent(0.1, (1.0, 1.5), ((1.5, 1.5), (1.0, 2.0)), chosen=None),
+             ReplanEvent(0.2, (1.02, 1.5), ((1.52, 1.5), (1.0, 2.0)), chosen=0)]
     assert chain_vertices(plans).tolist() == [[1.0, 1.0], [1.0, 1.5], [1.02, 1.5], [1.52, 1.5]]
     assert chain_vertices([]).shape == (0, 2)
     assert [label_step(n) for n in (1, 40, 41, 379)] == [1, 1, 2, 10]

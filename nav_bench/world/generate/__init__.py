@@ -2,7 +2,7 @@
 
 Every generator turns ``(seed, settings)`` into plain world data that validates with
 :func:`nav_bench.world.load.world_from_data`, and **guarantees the goal is reachable** for a disc
-robot of radius ``robot_radius`` (default 0.18 m): each layout is checked with
+robot of radius ``robot_radius`` (default: the default robot's, from its URDF): each layout is checked with
 :func:`nav_bench.world.optimal.optimal_path` on the true map, and rejected layouts are redrawn
 with derived seeds (attempt 1, 2, ...). ``meta.generator`` records the kind, the seed, the
 attempt and derived seed actually used, and every setting (defaults included), so a file
@@ -51,6 +51,8 @@ from nav_bench.world.generate.common import (
     write_world_yaml,
 )
 from nav_bench.world.generate.movers import add_movers, place_movers
+from nav_bench.world.load import world_from_data
+from nav_bench.world.optimal import optimal_path
 
 __all__ = [
     "GeneratorInfo",
@@ -97,9 +99,6 @@ def generate_world(kind: str, seed: int = 0, settings: dict[str, Any] | None = N
         raise InputError(f"generator seed must be a whole number >= 0, got {seed!r}")
     seed = int(seed)
     s = resolve_settings(info, settings)
-
-    from nav_bench.world.load import world_from_data
-    from nav_bench.world.optimal import optimal_path
 
     reason = ""
     for attempt in range(s["max_attempts"]):
