@@ -74,11 +74,19 @@ def _key_value(text: str) -> tuple[str, Any]:
 def cmd_run(args: argparse.Namespace) -> int:
     from nav_bench.batch.runner import run_suite
     from nav_bench.batch.store import ResultsStore
+    from nav_bench.paths import find
 
-    out = run_suite(args.suite, workers=args.workers, out=args.out, resume=args.resume,
+    suite = find("suite", args.suite).path if args.suite else None
+    out = run_suite(suite, workers=args.workers, out=args.out, resume=args.resume,
                     executor=args.executor, progress=not args.quiet,
                     retry_errors=args.retry_errors)
     print(f"results: {out}")
+    if args.record_failures:
+        from nav_bench.batch.store import ResultsStore
+        from nav_bench.reporting.replay import record_failures
+
+        gifs = record_failures(ResultsStore(out).rows(), out)
+        print(f"failures: {len(gifs)} GIFs beside their traces in {out / 'traces'}")
     if not args.no_report:
         from nav_bench.reporting.markdown import write_report
 
@@ -96,13 +104,15 @@ def cmd_run(args: argparse.Namespace) -> int:
 def cmd_episode(args: argparse.Namespace) -> int:
     from nav_bench.episode import EpisodeSettings
     from nav_bench.episode.loop import run_episode
+    from nav_bench.paths import find
     from nav_bench.planners.registry import parse_planner_arg
     from nav_bench.specs import load_robot
     from nav_bench.world.load import load_world
 
-    world = load_world(args.world)
+    world_file = find("world", args.world)
+    world = load_world(world_file.path)
     planner = parse_planner_arg(args.planner)
-    robot = load_robot(args.robot) if args.robot else load_robot()
+    robot = load_robot(find("robot", args.robot).path) if args.robot else load_robot()
     from nav_bench.episode.protocol import make_protocol
 
     if args.time_limit is not None and make_protocol(args.protocol).time_limit_s is not None:
@@ -116,7 +126,7 @@ def cmd_episode(args: argparse.Namespace) -> int:
 
         live = LiveView(world, every_s=0.5, show=args.live, save=args.record)
     result = run_episode(world, planner, seed=args.seed, robot=robot, settings=settings,
-                         world_file=args.world, gui=args.gui, live=live)
+                         world_file=world_file.given, gui=args.gui, live=live)
     row = result.row
     if args.plot:
         from nav_bench.reporting.episode_plot import plot_episode
@@ -163,10 +173,11 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 
 def cmd_show(args: argparse.Namespace) -> int:
+    from nav_bench.paths import find
     from nav_bench.world.draw import save_world_png
     from nav_bench.world.load import load_world
 
-    world = load_world(args.world)
+    world = load_world(find("world", args.world).path)
     save_world_png(world, args.output)
     print(f"{world.name}: {world.size[0]:g} m x {world.size[1]:g} m, {len(world.obstacles)} "
           f"obstacles, {len(world.movers)} movers -> {args.output}")
@@ -238,9 +249,34 @@ def cmd_import(args: argparse.Namespace) -> int:
 
 
 def cmd_perf(args: argparse.Namespace) -> int:
+    from nav_bench.paths import find
     from nav_bench.perf import run_perf
 
-    run_perf(world_file=args.world, seconds=args.seconds)
+    run_perf(world_file=find("world", args.world).given, seconds=args.seconds)
+    return 0
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    from nav_bench.reporting.replay import replay
+
+    frames = replay(args.trace, args.record, every_s=args.every, fps=args.fps)
+    print(f"wrote {args.record} ({frames} frames)")
+    return 0
+
+
+def cmd_list(args: argparse.Namespace) -> int:
+    from nav_bench.paths import KIND_FOLDERS, data_root, describe
+
+    kinds = {"suites": "suite", "worlds": "world", "sets": "planner set", "robots": "robot"}
+    for heading, kind in kinds.items():
+        if args.kind not in (None, heading):
+            continue
+        print(f"{heading} ({KIND_FOLDERS[kind]}/):")
+        for name, line in describe(kind):
+            print(f"  {name:28s} {line[:100]}")
+        print()
+    print(f"shipped data: {data_root()}\nnames work wherever a file does; a file of yours, "
+          "given as a path, comes first")
     return 0
 
 
@@ -260,7 +296,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     p = sub.add_parser("run", help="run a batch benchmark (default suite: configs/suites/default.yaml)")
-    p.add_argument("suite", nargs="?", help="suite YAML (default: configs/suites/default.yaml)")
+    p.add_argument("suite", nargs="?",
+                   help="suite YAML or shipped suite name, e.g. smoke (default: the default suite)")
     p.add_argument("--workers", type=_int_from(1), help="parallel worker processes (default: CPU cores)")
     p.add_argument("--out", type=Path, help="results folder (default: results/<suite>-<timestamp>)")
     p.add_argument("--resume", type=Path, help="finish an interrupted results folder")
@@ -272,14 +309,17 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"exit with status {EXIT_ERROR_ROWS} if any episode is an error row")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument("--no-report", action="store_true", help="do not write report.md at the end")
+    p.add_argument("--record-failures", action="store_true",
+                   help="keep a GIF of each episode that did not reach its goal, beside its trace")
     p.set_defaults(func=cmd_run)
 
     p = sub.add_parser("episode", help="play one episode")
-    p.add_argument("world", help="world YAML")
+    p.add_argument("world", help="world YAML or shipped world name (paper/long_wall)")
     p.add_argument("--planner", default="eopc",
-                   help="name, parameter-set file, or name:key=value,... (default: eopc)")
+                   help="name, parameter set (file or shipped name), or name:key=value,... "
+                        "(default: eopc)")
     p.add_argument("--seed", type=_int_from(0), default=0)
-    p.add_argument("--robot", help="robot config YAML (default: robots/diffbot.yaml)")
+    p.add_argument("--robot", help="robot config YAML or name (default: robots/diffbot.yaml)")
     p.add_argument("--time-limit", type=_positive, help="simulated seconds (default: scales with world size)")
     p.add_argument("--no-stuck", action="store_true", help="do not end the episode when the robot stalls")
     p.add_argument("--protocol", default="nav_bench",
@@ -338,6 +378,19 @@ def build_parser() -> argparse.ArgumentParser:
     q.add_argument("map")
     q.add_argument("-o", "--output", required=True)
     p.set_defaults(func=cmd_import)
+
+    p = sub.add_parser("replay", help="re-render a stored episode (trace .npz) as a .gif or .mp4")
+    p.add_argument("trace", help="a trace .npz (nav-bench episode --trace, or a results folder's "
+                                 "traces/)")
+    p.add_argument("--record", required=True, help="the .gif or .mp4 to write")
+    p.add_argument("--every", type=float, default=0.5, help="simulated seconds between frames")
+    p.add_argument("--fps", type=float, help="playback frames per second (default: real time)")
+    p.set_defaults(func=cmd_replay)
+
+    p = sub.add_parser("list", help="list the shipped suites, worlds, parameter sets and robots")
+    p.add_argument("kind", nargs="?", choices=("suites", "worlds", "sets", "robots"),
+                   help="only this kind (sets: planner parameter sets)")
+    p.set_defaults(func=cmd_list)
 
     p = sub.add_parser("perf", help="measure simulation and episode speed on this machine")
     p.add_argument("--world", default="worlds/paper/open_room.yaml",

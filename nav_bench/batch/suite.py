@@ -328,7 +328,8 @@ class _Resolver:
     def __init__(self, cwd: Path, suite_dir: Path | None) -> None:
 
         self.cwd = cwd
-        bases = [cwd, *([suite_dir] if suite_dir else []), *(p.resolve() for p in project_roots())]
+        self._roots = [p.resolve() for p in project_roots()]
+        bases = [cwd, *([suite_dir] if suite_dir else []), *self._roots]
         self._bases = list(dict.fromkeys(bases))  # in order, without repeats
 
     def bases(self) -> list[Path]:
@@ -339,7 +340,10 @@ class _Resolver:
         if Path(rel).is_absolute() or base == self.cwd:
             return rel
         path = base / rel
-        return os.path.relpath(path, self.cwd) if _inside(path, self.cwd) else str(path)
+        if _inside(path, self.cwd):
+            return os.path.relpath(path, self.cwd)
+        # a shipped file: recorded below its root, the same from a checkout or a wheel
+        return rel if base in self._roots else str(path)
 
     def file(self, text: str) -> tuple[Path, str] | None:
         """(absolute path, path as given) of an existing file, or None."""

@@ -1,8 +1,10 @@
 """The one control loop: sense -> plan -> act -> step, until an ending holds.
 
 :func:`run_episode` is the only place that drives a simulation for a planner; the CLI, the
-batch workers and the tests all call it. It sets the episode up (generator, planner, session,
-observers), :func:`play` runs the loop, and the row is built once from the recorded trace.
+batch workers and the tests all call it. It sets the episode up (planner, session, observers),
+:func:`play` runs the loop on an :class:`~nav_bench.episode.stepper.EpisodeStepper` (the
+episode's parts, which the Gymnasium environment drives too), and the row is built once from
+the recorded trace.
 """
 
 from __future__ import annotations
@@ -10,89 +12,39 @@ from __future__ import annotations
 import contextlib
 import math
 import time
-import traceback
-from dataclasses import asdict, dataclass, field
 from typing import Any
 
-import numpy as np
-
-from nav_bench.episode.ending import first_ending
-from nav_bench.episode.observers import Cycle, GuiView, LiveFeed, Observer
-from nav_bench.episode.protocol import protocol_of
-from nav_bench.episode.row import ResultRow
+from nav_bench.episode.observers import GuiView, LiveFeed, Observer
 from nav_bench.episode.settings import EpisodeSettings
-from nav_bench.episode.trace import Trace, TraceRecorder
+from nav_bench.episode.stepper import EpisodeResult, EpisodeStepper
 from nav_bench.errors import InputError, PlannerError
-from nav_bench.ids import episode_rng, params_id, robot_id
-from nav_bench.interface import Command, Observation, Outcome, RobotInfo
+from nav_bench.interface import Command, Observation, RobotInfo
 from nav_bench.planners.base import Planner
 from nav_bench.planners.registry import full_params, make_planner
 from nav_bench.sim.session import SimSession
-from nav_bench.sim.simulation import Simulation
-from nav_bench.specs import PlannerSetSpec, RobotSpec, WorldSpec, load_robot
+from nav_bench.specs import PlannerSetSpec, RobotSpec, WorldSpec
+
+__all__ = ["EpisodeResult", "EpisodeStepper", "checked_act", "play", "run_episode"]
 
 
-@dataclass
-class EpisodeResult:
-    """The result row, the trace, and where the wall time went (s)."""
-
-    row: ResultRow
-    trace: Trace
-    timing: dict[str, float]
-
-
-@dataclass
-class Played:
-    """How :func:`play` ended: the outcome (and traceback), the planner's events, the time it
-    spent planning (s), and the simulation (None if it could not be built)."""
-
-    outcome: Outcome = Outcome.ERROR
-    error: str | None = None
-    events: list[dict[str, Any]] = field(default_factory=list)
-    plan_s: float = 0.0
-    sim: Simulation | None = None
-
-
-def play(session: SimSession, world: WorldSpec, robot: RobotSpec, rng: np.random.Generator,
-         agent: Planner, planner_rng: np.random.Generator, settings: EpisodeSettings,
-         observers: list[Observer], name: str) -> Played:
-    """Run the control loop in ``session`` until an ending holds or something fails."""
-    played = Played()
-    try:
-        sim = played.sim = Simulation(session, world, robot, rng, physics_hz=settings.physics_hz)
-        goal = np.asarray(world.goal, dtype=float)
-        bounds = (0.0, 0.0, float(world.size[0]), float(world.size[1]))
-        checks = protocol_of(settings).endings(settings, world, sim.true_pose()[:2].copy(),
-                                               collisions=lambda: sim.collisions)
-        first = True
-        while True:
-            true_pose = sim.true_pose()
-            outcome = first_ending(checks, sim.t, true_pose[:2])
-            if outcome is not None:
-                played.outcome = outcome
-                break
-            ranges = sim.sense()  # sense
-            obs = Observation(t=sim.t, pose=sim.odometry_pose(), goal=goal, ranges=ranges,
-                              robot=sim.robot_info, bounds=bounds, dt=settings.cycle_s)
-            t0 = time.perf_counter()
+def play(stepper: EpisodeStepper, agent: Planner, name: str) -> None:
+    """Run the control loop with planner ``agent`` until an ending holds or something fails."""
+    first = True
+    while (obs := stepper.observe()) is not None:  # endings, then sense
+        t0 = time.perf_counter()
+        try:
             if first:
-                agent.reset(obs, planner_rng)
+                agent.reset(obs, stepper.planner_rng)
                 first = False
             t1 = time.perf_counter()
-            cmd = checked_act(agent, obs, sim.robot_info, name)  # plan
+            cmd = checked_act(agent, obs, obs.robot, name)  # plan
             t2 = time.perf_counter()
-            played.plan_s += t2 - t0
-            events = [{"kind": e.kind, "t": e.t, "data": e.data} for e in agent.pop_events()]
-            played.events += events
-            cycle = Cycle(sim.t, true_pose, obs, cmd, events, agent, sim, plan_s=t2 - t1)
-            for observer in observers:
-                observer.on_cycle(cycle)
-            sim.apply(cmd)  # act
-            sim.step(settings.steps_per_cycle)  # step
-    except Exception as exc:  # the episode ends as "error"; the batch goes on
-        played.outcome = Outcome.ERROR
-        played.error = "".join(traceback.format_exception(exc))
-    return played
+        except Exception as exc:  # the episode ends as "error"; the batch goes on
+            stepper.fail(exc)
+            break
+        stepper.plan_s += t2 - t0
+        events = [{"kind": e.kind, "t": e.t, "data": e.data} for e in agent.pop_events()]
+        stepper.advance(cmd, events, agent, plan_s=t2 - t1)  # observers, act, step
 
 
 def checked_act(agent: Planner, obs: Observation, robot: RobotInfo, name: str) -> Command:
@@ -137,50 +89,21 @@ def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,
     if session is not None and gui:
         raise InputError("an episode with the GUI opens its own session; do not pass one")
     settings = settings or EpisodeSettings()
-    robot = robot or load_robot()
-    params = full_params(planner)
-    pid, rid = params_id(planner.planner, params), robot_id(robot)
-    rng = episode_rng(world.name or "world", pid, rid, seed)
-    planner_rng = rng.spawn(1)[0]
     agent = planner_instance or make_planner(planner)
-    recorder = TraceRecorder(world)
-    observers: list[Observer] = [recorder] if settings.record_trace else []
-    observers += [GuiView(settings.cycle_s)] if gui else []
+    full_params(planner)  # bad parameters: InputError before anything is simulated
+    observers: list[Observer] = [GuiView(settings.cycle_s)] if gui else []
     observers += [LiveFeed(live)] if live is not None else []
     wall0 = time.perf_counter()
     host = (SimSession(gui=gui, physics_hz=settings.physics_hz) if session is None
             else contextlib.nullcontext(session))  # a session passed in stays open
     with host as session:
         session.open()  # idempotent; a worker's session is opened by its first episode
-        played = play(session, world, robot, rng, agent, planner_rng, settings, observers,
-                      planner.planner)
-        sim = played.sim
-        if sim is not None:
-            final = (sim.t, sim.true_pose(), sim.odometry_pose(), sim.collisions,
-                     dict(sim.timing), sim.robot_info.radius)
+        stepper = EpisodeStepper(session, world, planner, seed=seed, robot=robot,
+                                 settings=settings, world_file=world_file, observers=observers)
+        play(stepper, agent, planner.planner)
         try:
             state = agent.debug_state()
         except Exception:  # a broken debug_state must not lose the row
             state = {}
-    wall = time.perf_counter() - wall0
-    for observer in observers:
-        observer.close()
-    identity = dict(world_file=world_file, planner=planner.planner, params=params, params_id=pid,
-                    seed=seed, settings=asdict(settings))
-    if sim is None:  # the simulation could not be built: nothing was measured
-        row = ResultRow.failure(world=world.name, error=played.error or "", wall_s=wall, **identity)
-        row.robot, row.robot_id = robot.name, rid
-        trace = recorder.finish(0.0, np.array(world.start_pose), np.array(world.start_pose),
-                                played.events, state)
-        trace.row = row.to_json()
-        return EpisodeResult(row=row, trace=trace, timing={"total": wall})
-    sim_t, true_end, odom_end, collisions, timing_sim, radius = final
-    trace = recorder.finish(sim_t, true_end, odom_end, played.events, state)
-    row = ResultRow.from_trace(trace, outcome=played.outcome, error=played.error, robot=robot.name,
-                               robot_id=rid, time_s=sim_t, robot_radius=radius,
-                               replans=agent.replans,
-                               collisions=collisions, wall_s=wall, **identity)
-    trace.row = row.to_json()
-    timing = {**timing_sim, "planning": played.plan_s,
-              "other": wall - sum(timing_sim.values()) - played.plan_s, "total": wall}
-    return EpisodeResult(row=row, trace=trace, timing=timing)
+        return stepper.finish(wall_s=time.perf_counter() - wall0, planner_state=state,
+                              replans=agent.replans)

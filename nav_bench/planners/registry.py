@@ -19,6 +19,7 @@ from typing import Any
 import yaml
 
 from nav_bench.errors import InputError, SpecError, UnknownNameError
+from nav_bench.paths import find, shipped
 from nav_bench.planners.base import ParamError, Planner, resolve_params
 from nav_bench.specs import PlannerSetSpec
 from nav_bench.yamlio import LineIndex, load_yaml, validate
@@ -36,6 +37,7 @@ BUILTIN: dict[str, str] = {
     "apf": "nav_bench.planners.apf:PotentialField",
     "dwa": "nav_bench.planners.dwa:DWA",
     "dwa_global": "nav_bench.planners.dwa:DWAGlobal",
+    "policy": "nav_bench.planners.policy:PolicyPlanner",
 }
 
 
@@ -166,7 +168,7 @@ def parse_planner_arg(text: str) -> PlannerSetSpec:
     ``eopc:RR=0.4,lambda1=0.9`` (name with overrides), ``pkg.mod:Cls`` (a dotted path).
     """
     if text.endswith((".yaml", ".yml")):
-        return load_planner_set(text)
+        return load_planner_set(find("planner set", text).path)
     name, overrides = text, {}
     head, sep, tail = text.rpartition(":")
     if sep and ("=" in tail or head in default_registry()):
@@ -176,13 +178,28 @@ def parse_planner_arg(text: str) -> PlannerSetSpec:
             if not eq or not key.strip():
                 raise InputError(f"planner override {item!r} in {text!r} is not key=value")
             overrides[key.strip()] = yaml.safe_load(value)
-    if name.endswith((".yaml", ".yml")):
-        base = load_planner_set(name)
+    set_file = _planner_set_file(name)
+    if set_file is not None:
+        base = load_planner_set(set_file)
         spec = PlannerSetSpec(planner=base.planner, params={**base.params, **overrides})
     else:
         spec = PlannerSetSpec(planner=name, params=overrides)
     resolve_params(default_registry().get(spec.planner), spec.params)
     return spec
+
+
+def _planner_set_file(name: str) -> Path | None:
+    """The parameter-set file ``name`` refers to: a path, or a shipped set's name
+    (``eopc_paper``) that is not a registered planner; None for a planner."""
+    if name.endswith((".yaml", ".yml")):
+        return find("planner set", name).path
+    registry = default_registry()
+    if name in registry or ":" in name:
+        return None
+    sets = shipped("planner set")
+    if name in sets:
+        return sets[name]
+    raise UnknownNameError("planner or parameter set", name, [*registry.names(), *sets])
 
 
 def make_planner(spec: PlannerSetSpec, registry: PlannerRegistry | None = None) -> Planner:

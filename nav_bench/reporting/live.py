@@ -5,7 +5,8 @@
 (numbered breakpoints, EO stops marked apart from re-plans on a blocked path, as the paper's
 Fig. 4) and the latest re-plan's neighbours coloured by risk. It draws to a window (``show=True``, needs an interactive
 matplotlib backend) and/or to an animated file without a screen (``save=`` ``.gif`` via
-Pillow, ``.mp4`` via ffmpeg).
+Pillow, ``.mp4`` via ffmpeg: on the PATH, or the imageio-ffmpeg wheel of the ``[video]``
+extra).
 
 The episode calls :meth:`LiveView.update` every control cycle and :meth:`LiveView.close`
 at the end. Memory: GIF frames are kept (palette-compressed, ~0.1-0.2 MB each at the
@@ -34,6 +35,21 @@ from nav_bench.specs import WorldSpec, default_robot_radius
 from nav_bench.world.draw import draw_world
 
 NON_INTERACTIVE = {"agg", "pdf", "ps", "svg", "pgf", "cairo", "template"}
+
+
+def ffmpeg_exe() -> str | None:
+    """ffmpeg on the PATH, else the binary of the imageio-ffmpeg wheel (the [video] extra)."""
+    found = shutil.which("ffmpeg")
+    if found:
+        return found
+    try:
+        import imageio_ffmpeg
+    except ImportError:
+        return None
+    try:
+        return imageio_ffmpeg.get_ffmpeg_exe()
+    except RuntimeError:  # the wheel has no binary for this platform
+        return None
 
 
 class LiveView:
@@ -70,15 +86,21 @@ class LiveView:
         self._writer: Any = None
         if self.save is not None and self.save.suffix.lower() not in (".gif", ".mp4"):
             raise InputError(f"live view: --record expects a .gif or .mp4 file, got {str(self.save)!r}")
-        if self.save is not None and self.save.suffix.lower() == ".mp4" and shutil.which("ffmpeg") is None:
-            raise InputError("live view: writing .mp4 needs ffmpeg on the PATH (not found); "
-                             "record a .gif instead, or install ffmpeg")
+        ffmpeg = None
+        if self.save is not None and self.save.suffix.lower() == ".mp4":
+            ffmpeg = ffmpeg_exe()
+            if ffmpeg is None:
+                raise InputError("live view: writing .mp4 needs ffmpeg: pip install "
+                                 "\"nav-bench[video]\" (or put ffmpeg on the PATH), or record "
+                                 "a .gif instead")
         self._make_figure(show, size_in, default_robot_radius() if robot_radius is None else robot_radius)
         if self.save is not None:
             self.save.parent.mkdir(parents=True, exist_ok=True)
             if self.save.suffix.lower() == ".mp4":
+                import matplotlib
                 from matplotlib.animation import FFMpegWriter
 
+                matplotlib.rcParams["animation.ffmpeg_path"] = ffmpeg
                 self._writer = FFMpegWriter(fps=self.fps)
                 self._writer.setup(self.fig, str(self.save), dpi=self.dpi)
 

@@ -13,6 +13,7 @@ import numpy as np
 from nav_bench.batch.store import ResultsStore
 from nav_bench.episode import read_trace_positions, read_trace_world
 from nav_bench.errors import InputError
+from nav_bench.paths import project_file
 from nav_bench.specs import WorldSpec
 from nav_bench.world.load import load_world
 
@@ -83,7 +84,7 @@ def world_of(rows: Sequence[dict[str, Any]], runs: Sequence[Run]) -> WorldSpec |
         if not file:
             continue
         cwd = Path((run.meta.get("suite") or {}).get("cwd") or ".")
-        for candidate in (Path(file), cwd / file):
+        for candidate in (Path(file), cwd / file, project_file(file)):
             if candidate.is_file():
                 try:
                     return load_world(candidate)
