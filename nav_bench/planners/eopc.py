@@ -267,7 +267,9 @@ def crossed_cells(frame: GridFrame, start: np.ndarray, end: np.ndarray) -> np.nd
             cuts.append((lines - a) / (b - a))
     t = np.unique(np.concatenate(cuts))
     mid = (t[:-1] + t[1:]) / 2
-    return frame.world_to_cell(start[None, :] + mid[:, None] * (end - start)[None, :])
+    cols = np.floor((start[0] + mid * (end[0] - start[0]) - x0) / frame.cell).astype(np.int64)
+    rows = np.floor((start[1] + mid * (end[1] - start[1]) - y0) / frame.cell).astype(np.int64)
+    return np.stack([rows, cols], axis=1)
 
 
 def goal_path_blocked(pmo: np.ndarray, frame: GridFrame, start: np.ndarray, goal: np.ndarray,
@@ -288,17 +290,21 @@ def goal_path_blocked(pmo: np.ndarray, frame: GridFrame, start: np.ndarray, goal
     start = np.asarray(start, dtype=float)[:2]
     goal = np.asarray(goal, dtype=float)[:2]
     delta = goal - start
-    length = float(np.hypot(*delta))
-    offsets = [0.0]
+    length = math.hypot(delta[0], delta[1])
     if half_width > 0 and length > 0:
         lanes = max(3, 2 * math.ceil(half_width / (frame.cell / 2)) + 1)
-        offsets = list(np.linspace(-half_width, half_width, lanes))
-    normal = np.array([-delta[1], delta[0]]) / length if length > 0 else np.zeros(2)
-    cells = np.concatenate([crossed_cells(frame, start + o * normal, goal + o * normal) for o in offsets])
+        normal = np.array([-delta[1], delta[0]]) / length
+        cells = np.concatenate([crossed_cells(frame, start + o * normal, goal + o * normal)
+                                for o in np.linspace(-half_width, half_width, lanes)])
+    else:
+        cells = crossed_cells(frame, start, goal)
     rows, cols = cells[:, 0], cells[:, 1]
-    start_cell = frame.world_to_cell(start)
-    keep = frame.contains(rows, cols) & ~((rows == start_cell[0]) & (cols == start_cell[1]))
-    return bool(np.any(pmo[rows[keep], cols[keep]] > occupied_above))
+    height, width = pmo.shape
+    inside = (rows >= 0) & (rows < height) & (cols >= 0) & (cols < width)
+    rows, cols = rows[inside], cols[inside]
+    own_row, own_col = frame.world_to_cell(start)
+    occupied = (pmo[rows, cols] > occupied_above) & ~((rows == own_row) & (cols == own_col))
+    return bool(occupied.any())
 
 
 def old_path_heading(previous_breakpoint: np.ndarray | None, point: np.ndarray,
