@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -54,3 +56,11 @@ def test_show_writes_a_png(tmp_path, capsys):
     assert main(["show", str(ROOT / "worlds/paper/long_wall.yaml"), "-o", str(out)]) == 0
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "long_wall: 10 m x 10 m, 1 obstacles" in capsys.readouterr().out
+
+
+def test_a_closed_pipe_ends_quietly():
+    """`nav-bench list | head -1`: the reader closes the pipe early; no traceback, exit 0."""
+    proc = subprocess.run(f"{sys.executable} -m nav_bench list | head -1", shell=True,
+                          capture_output=True, text=True, cwd=ROOT)
+    assert proc.stdout.count("\n") == 1
+    assert "Traceback" not in proc.stderr and "Error" not in proc.stderr
