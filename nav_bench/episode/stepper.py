@@ -85,6 +85,10 @@ class EpisodeStepper:
         self.plan_s = 0.0
         self.sim: Simulation | None = None
         self._cycle: tuple[np.ndarray, Observation] | None = None
+        # what every observation repeats: the goal (2,) m and the grids' area, built once
+        self._goal = np.array(world.goal, dtype=float)
+        self._goal.flags.writeable = False  # shared by every observation: no planner may change it
+        self._bounds = (0.0, 0.0, float(world.size[0]), float(world.size[1]))
         try:
             self.sim = Simulation(session, world, robot, self.rng, physics_hz=settings.physics_hz)
             sim = self.sim
@@ -168,11 +172,8 @@ class EpisodeStepper:
         self.error = "".join(traceback.format_exception(exc))
 
     def _observation(self, sim: Simulation) -> Observation:
-        world = self.world
-        return Observation(t=sim.t, pose=sim.odometry_pose(), goal=np.asarray(world.goal, float),
-                           ranges=sim.sense(), robot=sim.robot_info,
-                           bounds=(0.0, 0.0, float(world.size[0]), float(world.size[1])),
-                           dt=self.settings.cycle_s)
+        return Observation(t=sim.t, pose=sim.odometry_pose(), goal=self._goal, ranges=sim.sense(),
+                           robot=sim.robot_info, bounds=self._bounds, dt=self.settings.cycle_s)
 
     # -- the end ---------------------------------------------------------------------------------
     def finish(self, *, wall_s: float, planner_state: dict[str, Any] | None = None,
