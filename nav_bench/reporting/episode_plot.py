@@ -75,15 +75,27 @@ def draw_chain(ax: Axes, plans: list[ReplanEvent], marker_size: float = 16,
     chain = chain_vertices(plans)
     if len(chain):
         ax.plot(chain[:, 0], chain[:, 1], color=CHAIN_COLOR, lw=0.8, zorder=6)
+    for trigger, xy in breakpoints_by_trigger(plans).items():
+        style = BREAKPOINT_STYLE[trigger]
+        ax.scatter(xy[:, 0], xy[:, 1], s=marker_size * 1.6, marker=style["marker"],
+                   facecolors=style["facecolor"], edgecolors=style["edgecolor"], linewidths=0.7,
+                   zorder=8)
+    if not numbers:
+        return
     step = label_step(len(plans))
     for k, plan in enumerate(plans, start=1):
-        bx, by = plan.breakpoint
-        style = BREAKPOINT_STYLE.get(plan.trigger, BREAKPOINT_STYLE["eo_stop"])
-        ax.scatter([bx], [by], s=marker_size * 1.6, marker=style["marker"], facecolors=style["facecolor"],
-                   edgecolors=style["edgecolor"], linewidths=0.7, zorder=8)
-        if numbers and (k % step == 0 or k == 1 or k == len(plans)):
-            ax.annotate(str(k), (bx, by), xytext=(3, 3), textcoords="offset points", fontsize=6,
-                        zorder=9, color=CHAIN_COLOR)
+        if k % step == 0 or k == 1 or k == len(plans):
+            ax.annotate(str(k), tuple(plan.breakpoint), xytext=(3, 3), textcoords="offset points",
+                        fontsize=6, zorder=9, color=CHAIN_COLOR)
+
+
+def breakpoints_by_trigger(plans: list[ReplanEvent]) -> dict[str, np.ndarray]:
+    """(N, 2) breakpoints (m) per kind of breakpoint in ``BREAKPOINT_STYLE``, in order; an
+    unknown trigger is drawn as an EO stop."""
+    xy: dict[str, list] = {trigger: [] for trigger in BREAKPOINT_STYLE}
+    for plan in plans:
+        xy[plan.trigger if plan.trigger in xy else "eo_stop"].append(plan.breakpoint)
+    return {trigger: np.asarray(points, dtype=float).reshape(-1, 2) for trigger, points in xy.items()}
 
 
 def draw_outlines(ax: Axes, world: WorldSpec) -> None:

@@ -29,6 +29,7 @@ from nav_bench.reporting.episode_plot import (
     BREAKPOINT_STYLE,
     CHAIN_COLOR,
     TRUE_COLOR,
+    breakpoints_by_trigger,
     chain_vertices,
 )
 from nav_bench.specs import WorldSpec, default_robot_radius
@@ -236,9 +237,8 @@ class LiveView:
         10th: numbers drawn once stay, so the rule cannot depend on the final count)."""
         chain = chain_vertices(self._plans)
         self._chain.set_data(chain[:, 0], chain[:, 1])
-        for trigger, points in self._breakpoints.items():
-            xy = [p.breakpoint for p in self._plans if p.trigger == trigger]
-            points.set_offsets(np.asarray(xy, dtype=float).reshape(-1, 2))
+        for trigger, xy in breakpoints_by_trigger(self._plans).items():
+            self._breakpoints[trigger].set_offsets(xy)
         for k in range(self._numbered + 1, len(self._plans) + 1):
             if k <= 40 or k % 10 == 0:
                 bx, by = self._plans[k - 1].breakpoint
