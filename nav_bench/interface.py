@@ -30,6 +30,23 @@ class Outcome(str, Enum):
         return self.value
 
 
+class StuckReason(str, Enum):
+    """Why a robot made no progress (a result row's ``stuck_reason`` when it ended ``stuck``).
+
+    The planner says it when it knows (:meth:`nav_bench.planners.base.Planner.stuck_reason`);
+    otherwise the episode classifies what it saw of the true motion.
+    """
+
+    PINNED = "pinned"  # the wheels turn but the robot does not move (pressed on a corner or wall)
+    OSCILLATING = "oscillating"  # the robot moves back and forth inside a small area
+    NO_PATH = "no_path"  # the planner reports that it has no path to the goal
+    WAITING = "waiting"  # the planner holds the robot still on purpose (e.g. EO/PC's tier-3 wait)
+    STOPPED = "stopped"  # the planner commands no motion and gives no reason
+
+    def __str__(self) -> str:
+        return self.value
+
+
 @dataclass(frozen=True)
 class SonarInfo:
     """Where the sonars sit and what they can measure (fixed for an episode).

@@ -17,7 +17,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from nav_bench.errors import InputError
-from nav_bench.interface import REPLAN, Command, Observation, PlannerEvent
+from nav_bench.interface import REPLAN, Command, Observation, PlannerEvent, StuckReason
 
 
 class ParamError(InputError):
@@ -123,6 +123,12 @@ class Planner:
     def debug_state(self) -> dict[str, Any]:
         """Planner state for plots and the GUI (grids, current path...); plain data. Optional."""
         return {}
+
+    def stuck_reason(self) -> StuckReason | None:
+        """Why the robot is making no progress, if the planner knows (e.g. it has no path, or
+        its recovery found the robot pinned). Read when an episode ends ``stuck`` and stored as
+        the row's ``stuck_reason``; None lets the episode classify the motion itself. Optional."""
+        return None
 
     # -- helpers ---------------------------------------------------------------
     def emit(self, kind: str, t: float, **data: Any) -> None:
