@@ -13,8 +13,10 @@ Measures, each executor in turn (local process pool, Dask LocalCluster; 1 and 2 
 
 Then the arithmetic: workers for ``--suite-size`` episodes in ``--hours``, from a mean episode
 time ``--episode-s`` (worker seconds; default: the issue's default-suite figure 2,007 CPU-s /
-280 episodes = 7.2 s) plus the measured Dask overhead per episode and start-up:
-``workers = ceil(size x (episode_s + overhead_s) / (3600 x hours - start-up))``. Wall-clock
+280 episodes = 7.2 s) plus the Dask overhead per episode measured with 1 worker and the
+cluster's start-up: ``workers = ceil(size x (episode_s + overhead_1) / (3600 x hours -
+start-up))``; and whether the client and scheduler pass that many episodes in time (the trivial
+episodes' time per episode with 2 workers, x size). Wall-clock
 figures: quote them with the load average printed.
 """
 
@@ -90,18 +92,23 @@ def main() -> None:
             print(f"{executor:8s} {workers:7d} {startup:10.2f} {1e3 * overhead:14.1f} "
                   f"{per_min:11.1f} {mean_wall:14.2f}", flush=True)
     print(f"load average {os.getloadavg()[0]:.1f} at the end")
-    startup, overhead, _, _ = figures[("dask", 2)]
-    # a worker's throughput is one episode per (episode_s + overhead); the overhead measured with
-    # 2 workers is the scheduler's per episode, paid once per episode by the whole cluster, so
-    # it is charged to each episode: conservative
+    # Two bounds. Worker capacity: with one worker the trivial episodes' time is everything one
+    # episode costs besides its own work (client, scheduler, worker, the episode process's round
+    # trip) -- charged to a worker, conservatively. The client and scheduler: with two workers the
+    # trivial episodes show what they pass per second; 10,000 episodes must fit through them.
+    startup = figures[("dask", 2)][0]
+    per_episode = figures[("dask", 1)][1]
+    serial = figures[("dask", 2)][1]
     budget = 3600.0 * args.hours - startup
-    need = args.suite_size * (args.episode_s + overhead)
+    need = args.suite_size * (args.episode_s + per_episode)
     workers = math.ceil(need / budget)
-    print(f"\n{args.suite_size} episodes in {args.hours:g} h: {args.suite_size} x "
-          f"({args.episode_s:.2f} s + {1e3 * overhead:.1f} ms) / ({3600 * args.hours:.0f} s - "
-          f"{startup:.1f} s start-up) = {need / budget:.1f} -> {workers} workers "
-          f"(one core each, episodes of {args.episode_s:.2f} worker-s)")
-
+    print(f"\n{args.suite_size} episodes in {args.hours:g} h, episodes of {args.episode_s:.2f} "
+          f"worker-s:\n  workers = {args.suite_size} x ({args.episode_s:.2f} s + "
+          f"{1e3 * per_episode:.1f} ms Dask overhead, 1 worker) / ({3600 * args.hours:.0f} s - "
+          f"{startup:.1f} s start-up) = {need / budget:.1f} -> {workers} workers, one core each")
+    print(f"  client and scheduler: {args.suite_size} x {1e3 * serial:.1f} ms (trivial episodes, "
+          f"2 workers) = {args.suite_size * serial:.0f} s of the {budget:.0f} s "
+          f"({'fits' if args.suite_size * serial < budget else 'DOES NOT FIT'})")
 
 if __name__ == "__main__":
     main()
