@@ -11,7 +11,7 @@ simulated seconds (or until the episode ends) in
 * the paper's worlds (``worlds/paper/``; ``--worlds`` picks some, ``--big-only`` none),
 
 and measures each cycle's planning time: the CPU time of the planner's ``act()`` (everything it
-does in a cycle: sensing updates of its maps, search, control; this thread's CPU clock, which a
+does in a cycle: sensing updates of its maps, search, control; the process CPU clock, which a
 loaded machine does not inflate) and the wall-clock time the trace records (``plan_s``).
 Prints per planner and world: cycles, median, p99 and max (ms), and per planner on the 400 x 400
 grid whether it meets the target (median < 1 ms, p99 < 10 ms). Wall-clock figures: on a shared
@@ -51,8 +51,8 @@ def big_world() -> WorldSpec:
 
 
 class CpuTimed:
-    """Wraps a planner's ``act`` to record the CPU time of each call (s, this thread's
-    ``time.thread_time``): on a loaded machine the wall clock also counts the time other
+    """Wraps a planner's ``act`` to record the CPU time of each call (s, the process's
+    ``time.process_time``): on a loaded machine the wall clock also counts the time other
     processes held the core."""
 
     def __init__(self, agent: Planner) -> None:
@@ -60,9 +60,9 @@ class CpuTimed:
         act = agent.act
 
         def timed_act(obs):
-            t0 = time.thread_time()
+            t0 = time.process_time()
             cmd = act(obs)
-            self.cpu_s.append(time.thread_time() - t0)
+            self.cpu_s.append(time.process_time() - t0)
             return cmd
 
         agent.act = timed_act  # type: ignore[method-assign]
