@@ -9,7 +9,8 @@ Measures, each executor in turn (local process pool, Dask LocalCluster; 1 and 2 
    function ``tests.helpers.fake_episodes.instant``) after ``n0 = 5`` warm-up ones in the same
    run: ``(T(n0 + N) - T(n0)) / N`` once the cluster is up, and the cluster's start-up;
 2. episodes per minute on ``--episodes`` short real episodes (goal_seek and EO/PC on the
-   tiny test worlds, ``--time-s`` simulated s at most) and their mean worker time.
+   tiny test worlds, ``--time-s`` simulated s at most), with the cluster's start-up and from
+   the first result on, and their mean wall time on a worker.
 
 Then the arithmetic: workers for ``--suite-size`` episodes in ``--hours``, from a mean episode
 time ``--episode-s`` (worker seconds; default: the issue's default-suite figure 2,007 CPU-s /
@@ -80,17 +81,18 @@ def main() -> None:
         real = expand(load_suite(real_suite))
         print(f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f} at the start")
         print(f"{'executor':8s} {'workers':>7s} {'start-up s':>10s} {'overhead ms/ep':>14s} "
-              f"{'real ep/min':>11s} {'mean ep wall s':>14s}")
+              f"{'real ep/min':>11s} {'after 1st':>9s} {'mean ep wall s':>14s}")
         figures = {}
         for executor, workers in configs:
             startup, rest, _ = timed(executor, workers, trivial, fake_episodes.instant, n0)
             overhead = rest / args.trivial
             t_first, t_rest, walls = timed(executor, workers, real, run_job, 1)
             per_min = 60.0 * len(real) / (t_first + t_rest)
+            steady = 60.0 * (len(real) - 1) / t_rest  # from the first result on: no start-up
             mean_wall = sum(walls) / len(walls)
             figures[(executor, workers)] = (startup, overhead, per_min, mean_wall)
             print(f"{executor:8s} {workers:7d} {startup:10.2f} {1e3 * overhead:14.1f} "
-                  f"{per_min:11.1f} {mean_wall:14.2f}", flush=True)
+                  f"{per_min:11.1f} {steady:9.1f} {mean_wall:14.2f}", flush=True)
     print(f"load average {os.getloadavg()[0]:.1f} at the end")
     # Two bounds. Worker capacity: with one worker the trivial episodes' time is everything one
     # episode costs besides its own work (client, scheduler, worker, the episode process's round
