@@ -20,7 +20,7 @@ from nav_bench.episode.motion import MOTION_FIELDS, motion_metrics
 from nav_bench.episode.protocol import make_protocol
 from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.episode.trace import Trace
-from nav_bench.interface import Outcome
+from nav_bench.interface import Outcome, StuckReason
 from nav_bench.world.geometry import polyline_length
 
 
@@ -65,6 +65,9 @@ class ResultRow:
     plan_ms_mean: float | None = None  # planner compute time per control cycle, ms (wall clock)
     plan_ms_p95: float | None = None  # its 95th percentile, ms (wall clock)
     barn_score: float | None = None  # under protocol barn: success x OT / clip(AT, 2 OT, 8 OT)
+    # what the episode cost and why it stalled (issue 16)
+    cpu_s: float | None = None  # CPU seconds of the process that played the episode
+    stuck_reason: StuckReason | None = None  # outcome stuck: why (planner's, else classified)
     # set by the batch runner
     job_id: str | None = None  # stable id of (world, parameter set, robot, seed, limits)
     label: str | None = None  # the suite's name for the parameter set, e.g. "eopc_rr[RR=0.4]"
@@ -126,7 +129,7 @@ class ResultRow:
             value = getattr(self, name)
             if value is None and name in _OMITTED_WHEN_NULL:
                 continue  # an episode that never finished has no final pose, a short one no motion
-            out[name] = value.value if isinstance(value, Outcome) else value
+            out[name] = value.value if isinstance(value, (Outcome, StuckReason)) else value
         if self.time_limit_s is not None:
             out["time_limit_s"] = self.time_limit_s
         if self.job_id is not None:
@@ -142,6 +145,8 @@ class ResultRow:
         check_row(data)
         known = {k: v for k, v in data.items() if k in _FIELD_NAMES}
         known["outcome"] = Outcome(known["outcome"])
+        if known.get("stuck_reason") is not None:
+            known["stuck_reason"] = StuckReason(known["stuck_reason"])
         return cls(**known, extra={k: v for k, v in data.items() if k not in _FIELD_NAMES})
 
 
@@ -161,8 +166,10 @@ def count_events(events: list[dict[str, Any]]) -> dict[str, int]:
 
 
 _MEASURED_AT_THE_END = frozenset({"goal_distance_m", "odometry_error_m"})
+_COST_FIELDS = frozenset({"cpu_s", "stuck_reason"})  # absent from rows that have none
 SCORE_FIELDS = ("barn_score",)  # protocols' scores: only rows played under that protocol have one
-_OMITTED_WHEN_NULL = _MEASURED_AT_THE_END | frozenset(MOTION_FIELDS) | frozenset(SCORE_FIELDS)
+_OMITTED_WHEN_NULL = (_MEASURED_AT_THE_END | frozenset(MOTION_FIELDS) | frozenset(SCORE_FIELDS)
+                      | _COST_FIELDS)
 _FIELD_NAMES = frozenset(f.name for f in dataclasses.fields(ResultRow)) - {"extra"}
 EPISODE_FIELDS = tuple(f.name for f in dataclasses.fields(ResultRow)
                        if f.name not in {"job_id", "label", "time_limit_s", "trace", "trace_error",
@@ -182,11 +189,12 @@ ROW_FIELDS: dict[str, tuple[type, ...]] = {
 # Measured quantities an ``error`` row may leave null: the episode never finished.
 ERROR_NULLABLE = frozenset({"time_s", "path_length_m", "replans", "collisions", "min_clearance_m"})
 OUTCOMES = tuple(o.value for o in Outcome)
+STUCK_REASONS = tuple(r.value for r in StuckReason)
 # fields measured on the wall clock: two plays of the same episode differ only in these
-WALL_CLOCK_FIELDS = frozenset({"wall_s", "plan_ms_mean", "plan_ms_p95"})
+WALL_CLOCK_FIELDS = frozenset({"wall_s", "plan_ms_mean", "plan_ms_p95", "cpu_s"})
 # optional fields (rows stored before they existed lack them): field -> accepted JSON types
-OPTIONAL_FIELDS: dict[str, tuple[type, ...]] = {name: (float, type(None))
-                                               for name in (*MOTION_FIELDS, *SCORE_FIELDS)}  # the words a row's outcome may take, in report order
+OPTIONAL_FIELDS: dict[str, tuple[type, ...]] = {
+    name: (float, type(None)) for name in (*MOTION_FIELDS, *SCORE_FIELDS, "cpu_s")}
 
 
 def row_problems(row: dict[str, Any]) -> list[str]:
@@ -209,6 +217,9 @@ def row_problems(row: dict[str, Any]) -> list[str]:
         value = row.get(name)
         if value is not None and (isinstance(value, bool) or not isinstance(value, (*types, int))):
             problems.append(f"field {name!r} should be a number or null, got {value!r:.60}")
+    reason = row.get("stuck_reason")
+    if reason is not None and reason not in STUCK_REASONS:
+        problems.append(f"stuck_reason {reason!r} is not one of {', '.join(STUCK_REASONS)}")
     if not problems:
         if row["outcome"] not in OUTCOMES:
             problems.append(f"outcome {row['outcome']!r} is not one of {', '.join(OUTCOMES)}")

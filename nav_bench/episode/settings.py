@@ -19,6 +19,9 @@ class EpisodeSettings:
     time_s: float | None = None  # simulated time limit; None: 15 s per metre of (sx + sy), >= 60 s
     stuck_s: float | None = 30.0  # "stuck" if the robot stays within stuck_radius this long; None: off
     stuck_radius: float = 0.2  # m
+    # m, also "stuck" when the positions of the last 3 x stuck_s fit in a disc this size (an
+    # oscillating robot; nav_bench.episode.ending.Stuck); None: off
+    stuck_area_radius: float | None = 0.6
     # m, true distance to the goal that counts as reached. Planners stop at their own tolerance
     # (0.2 m by default) judged on odometry; the extra 0.1 m absorbs odometry drift, so success
     # measures navigation and a default-noise robot that stopped "at" the goal is not "stuck".
