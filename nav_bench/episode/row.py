@@ -21,6 +21,7 @@ from nav_bench.episode.protocol import make_protocol
 from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.episode.trace import Trace
 from nav_bench.interface import Outcome
+from nav_bench.mapping.quality import MAP_QUALITY_FIELDS
 from nav_bench.world.geometry import polyline_length
 
 
@@ -65,6 +66,16 @@ class ResultRow:
     plan_ms_mean: float | None = None  # planner compute time per control cycle, ms (wall clock)
     plan_ms_p95: float | None = None  # its 95th percentile, ms (wall clock)
     barn_score: float | None = None  # under protocol barn: success x OT / clip(AT, 2 OT, 8 OT)
+    # map quality (nav_bench.mapping.quality): the planner's final occupancy grid against the
+    # true static map over the cells it observed (value != 50), occupied above 65, one cell of
+    # tolerance; null for planners that keep no grid (and for rows older than the fields)
+    map_precision: float | None = None  # share of occupied-marked cells that are true obstacles
+    map_recall: float | None = None  # share of observed true obstacle cells marked occupied
+    map_phantom_share: float | None = None  # share of the optimal path's free cells marked occupied
+    map_observed_cells: int | None = None  # cells the sonars said anything about
+    map_occupied_cells: int | None = None  # cells marked occupied
+    map_path_cells: int | None = None  # true free cells on the optimal path
+    map_phantom_cells: int | None = None  # of those, marked occupied (invented walls on the route)
     # set by the batch runner
     job_id: str | None = None  # stable id of (world, parameter set, robot, seed, limits)
     label: str | None = None  # the suite's name for the parameter set, e.g. "eopc_rr[RR=0.4]"
@@ -93,6 +104,8 @@ class ResultRow:
         protocol = make_protocol(settings.get("protocol", "nav_bench"),
                                  settings.get("protocol_options"))
         scores = protocol.score(success, optimal, time_s)
+        quality = metrics.planner_map_quality(world, trace.planner_state, robot_radius)
+        mapping = quality.row_fields() if quality is not None else {}
         return cls(
             world=world.name, world_file=world_file, planner=planner, params=params,
             params_id=params_id, seed=int(seed), success=success, outcome=outcome,
@@ -103,7 +116,7 @@ class ResultRow:
             wall_s=wall_s, robot=robot, robot_id=robot_id, settings=settings,
             goal_distance_m=float(np.hypot(*(final_true[:2] - np.asarray(world.goal, float)))),
             odometry_error_m=float(np.hypot(*(final_true[:2] - final_odom[:2]))),
-            events=count_events(trace.events), error=error, **motion, **scores)
+            events=count_events(trace.events), error=error, **motion, **scores, **mapping)
 
     @classmethod
     def failure(cls, *, world: str, world_file: str | None, planner: str, params: dict[str, Any],
@@ -186,7 +199,9 @@ OUTCOMES = tuple(o.value for o in Outcome)
 WALL_CLOCK_FIELDS = frozenset({"wall_s", "plan_ms_mean", "plan_ms_p95"})
 # optional fields (rows stored before they existed lack them): field -> accepted JSON types
 OPTIONAL_FIELDS: dict[str, tuple[type, ...]] = {name: (float, type(None))
-                                               for name in (*MOTION_FIELDS, *SCORE_FIELDS)}  # the words a row's outcome may take, in report order
+                                               for name in (*MOTION_FIELDS, *SCORE_FIELDS)}
+OPTIONAL_FIELDS.update({name: (int, type(None)) if name.endswith("_cells") else (float, type(None))
+                        for name in MAP_QUALITY_FIELDS})
 
 
 def row_problems(row: dict[str, Any]) -> list[str]:

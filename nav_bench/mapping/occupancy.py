@@ -1,15 +1,36 @@
 """PMO, the occupancy grid the robot builds from its sonars (paper Sec. 2.1, ref. [18]).
 
 Each cell holds the log-odds ``l = log(p / (1 - p))`` that it is occupied; ``l = 0`` is
-unknown. A sonar reading ``r`` updates the cells of its cone with an inverse sensor
-model (the classic Moravec/Elfes sonar model, simplified to three bands):
+unknown. A sonar reading ``r`` updates the cells of its cone with an inverse sensor model,
+chosen by ``OccupancyGrid(model=...)`` (:data:`SONAR_MODELS`):
 
-* cells in the cone closer than ``r - hit_thickness/2`` were seen through: ``l += l_free``;
-* cells in the cone within ``hit_thickness/2`` of ``r`` hold the echo: ``l += l_occ``
-  (the echo came from *somewhere* on that arc, so the whole arc gets the evidence);
-* cells beyond the arc are untouched (nothing is known behind an obstacle);
-* a reading at ``max_range`` (no echo) frees the cone up to ``max_range`` and marks nothing.
+``"elfes"`` (the default): the Moravec & Elfes sonar model with the echo attributed across
+the arc. References: H. Moravec, A. Elfes, "High resolution maps from wide angle sonar",
+ICRA 1985; A. Elfes, "Using occupancy grids for mobile robot perception and navigation",
+IEEE Computer 22(6), 1989; K. Konolige, "Improved occupancy grids for map building",
+Autonomous Robots 4, 1997 (MURIEL).
 
+* a sonar is most sensitive on its axis: every cell's evidence is weighted by
+  ``w = 1 - (theta / (cone/2))^2`` (Elfes' angular term), ``theta`` the cell's angle from the
+  axis; cells at the cone's edge get almost nothing;
+* cells seen through (closer than ``r - hit_thickness/2``) get ``l += w * l_free``;
+* the echo came from ONE place on the arc (``|dist - r| <= hit_thickness/2``), so the arc's
+  evidence is shared, not copied: cell ``i`` gets ``l += l_occ * s_i`` with
+  ``s_i = w_i p_i / max_j (w_j p_j)`` over the arc's cells, ``p`` the current occupancy
+  probability. An unknown arc gives its axis cell the full ``l_occ`` (one echo on the axis
+  of an unknown map still reads as an obstacle, PMO 70) and its flanks less; a cell that other
+  readings already saw through (low ``p``) takes little of a later echo: the echo is
+  explained by the arc's occupied cells (Konolige's MURIEL idea of not re-blaming cells
+  known free). So free readings from other poses carve phantom arc cells (a door's gap
+  marked by an echo from its jamb) away and they stay carved, while a real wall, which no
+  correct reading sees through, keeps collecting its echoes.
+
+``"band"``: the model before issue 12, three bands: the full ``l_occ`` on EVERY cell of
+the arc and the full ``l_free`` on every cell seen through. One echo from a door's jamb
+closes a 1 m door; kept for reproducing older results (EO/PC's recorded references).
+
+Both: cells beyond the arc are untouched (nothing is known behind an obstacle); a reading at
+``max_range`` (no echo) frees the cone up to ``max_range`` and marks nothing.
 ``l`` is clamped to ``[l_min, l_max]`` so the map can still change when the world does
 (movers). :meth:`OccupancyGrid.values` gives the map as ``uint8`` 0..100 (ROS map
 convention: 0 free, 50 unknown, 100 occupied) which is what the planner reads.
@@ -17,11 +38,14 @@ convention: 0 free, 50 unknown, 100 occupied) which is what the planner reads.
 "In the cone" uses cell centres: a centre is inside when it lies ahead of the sonar and
 its lateral distance from the sonar axis is at most ``along * tan(cone/2) + cell/2``. The
 half-cell widening keeps narrow cones at short range from slipping between cell centres
-(a 25 deg cone is only 0.09 m wide at 0.2 m).
+(a 25 deg cone is only 0.09 m wide at 0.2 m); ``theta`` of the Elfes weight is measured on
+the same widened cone (the lateral distance less half a cell), so the cell holding the axis
+always has ``w`` near 1.
 
 Speed: one update touches only the cells of a disc around the robot, precomputed once as
-cell offsets sorted by distance; each sonar takes the prefix within its reach. There is
-no Python loop over cells, only over the sonars.
+cell offsets sorted by distance; each sonar takes the prefix within its reach and works on
+the cells of its cone only. There is no Python loop over cells, only over the sonars
+(``benchmarks/bench_sonar_map.py``).
 """
 
 from __future__ import annotations
@@ -35,6 +59,7 @@ from nav_bench.interface import SonarInfo
 from nav_bench.mapping.grid import Bounds, GridFrame, OnGridFrame
 
 UNKNOWN = 50  # value of a cell never observed (log-odds 0)
+SONAR_MODELS = ("elfes", "band")  # inverse sensor models, see the module docstring
 
 
 def log_odds_to_values(log_odds: np.ndarray) -> np.ndarray:
@@ -48,17 +73,29 @@ class OccupancyGrid(OnGridFrame):
     Args:
         bounds: (xmin, ymin, xmax, ymax) in m; the grid covers at least this rectangle.
         cell: cell side, m (the paper's lambda, 0.1 m).
-        l_occ: log-odds added to a cell at the echo arc (> 0).
-        l_free: log-odds added to a cell seen through (< 0).
+        model: inverse sensor model, one of :data:`SONAR_MODELS` (module docstring).
+        l_occ: log-odds added at the echo arc (> 0): to every arc cell ("band"), to the arc's
+            most likely cell and shared out to the others ("elfes").
+        l_free: log-odds added to a cell seen through (< 0), times the angular weight
+            ("elfes").
         l_min, l_max: clamp of the log-odds (l_min < 0 < l_max).
         hit_thickness: radial thickness of the echo arc, m (default: one cell).
+        echo_share: "elfes" only: an arc cell gets at most this many cells' share of the echo
+            (``s_i = min(1, echo_share * w_i p_i / sum_j w_j p_j)``, module docstring).
 
     Points and cells outside the grid are ignored by :meth:`update`.
     """
 
-    def __init__(self, bounds: Bounds, cell: float = 0.1, *, l_occ: float = 0.85,
-                 l_free: float = -0.4, l_min: float = -2.0, l_max: float = 3.5,
-                 hit_thickness: float | None = None) -> None:
+    def __init__(self, bounds: Bounds, cell: float = 0.1, *, model: str = "elfes",
+                 l_occ: float = 0.85, l_free: float = -0.4, l_min: float = -2.0,
+                 l_max: float = 3.5, hit_thickness: float | None = None,
+                 echo_share: float = 2.0) -> None:
+        if model not in SONAR_MODELS:
+            raise InputError(f"unknown sonar model {model!r}; expected one of {list(SONAR_MODELS)}")
+        if not echo_share > 0:
+            raise InputError(f"echo_share must be > 0 cells, got {echo_share!r}")
+        self.model = model
+        self.echo_share = float(echo_share)
         if not (l_occ > 0 > l_free):
             raise InputError(f"occupancy grid needs l_occ > 0 > l_free, got {l_occ!r}, {l_free!r}")
         if not (l_min < 0 < l_max):
@@ -130,11 +167,13 @@ class OccupancyGrid(OnGridFrame):
         self._ensure_disc(sonar.max_range + half_t + mount_reach + cell)
         r0, c0 = (int(v) for v in self.frame.world_to_cell((x, y)))
         cx0, cy0 = (float(v) for v in self.frame.cell_center(r0, c0))
-        tan_half = math.tan(sonar.cone / 2)
+        half_cone = sonar.cone / 2
+        tan_half = math.tan(half_cone)
         cos_y, sin_y = math.cos(yaw), math.sin(yaw)
         height, width = self.frame.shape
         flat_lo = self._log_odds.reshape(-1)
         flat_val = self._values.reshape(-1)
+        elfes = self.model == "elfes"
         for k in range(len(ranges)):
             ox, oy = sonar.offsets[k]
             sx = x + cos_y * ox - sin_y * oy  # sonar position, world frame
@@ -150,20 +189,37 @@ class OccupancyGrid(OnGridFrame):
             dy = cy0 + self._disc_xy[:n, 1] - sy
             along = dx * ux + dy * uy
             lateral = np.abs(dy * ux - dx * uy)
-            in_cone = (along > 0) & (lateral <= along * tan_half + cell / 2)
-            dist = np.hypot(dx, dy)
+            cone = np.flatnonzero((along > 0) & (lateral <= along * tan_half + cell / 2))
+            rows = r0 + self._disc_rc[cone, 0]
+            cols = c0 + self._disc_rc[cone, 1]
+            on_grid = (rows >= 0) & (rows < height) & (cols >= 0) & (cols < width)
+            cone, rows, cols = cone[on_grid], rows[on_grid], cols[on_grid]
+            dist = np.hypot(dx[cone], dy[cone])
             if echo:
-                free = in_cone & (dist < r - half_t)
-                occ = in_cone & (np.abs(dist - r) <= half_t)
+                free = dist < r - half_t
+                occ = np.abs(dist - r) <= half_t
             else:
-                free = in_cone & (dist <= sonar.max_range)
+                free = dist <= sonar.max_range
                 occ = np.zeros_like(free)
             touched = free | occ
-            rows = r0 + self._disc_rc[:n, 0]
-            cols = c0 + self._disc_rc[:n, 1]
-            touched &= (rows >= 0) & (rows < height) & (cols >= 0) & (cols < width)
             idx = rows[touched] * width + cols[touched]  # unique within one sonar
-            delta = np.where(occ[touched], self.l_occ, self.l_free)
-            lo = np.clip(flat_lo[idx] + delta, self.l_min, self.l_max)
+            lo = flat_lo[idx]
+            occ = occ[touched]
+            if elfes:
+                # angle from the axis on the half-cell-widened cone (module docstring)
+                theta = np.arctan2(np.maximum(lateral[cone[touched]] - cell / 2, 0.0),
+                                   along[cone[touched]])
+                w = np.clip(1.0 - (theta / half_cone) ** 2, 0.0, 1.0)
+                delta = w * self.l_free
+                if occ.any():
+                    blame = w[occ] / (1.0 + np.exp(-lo[occ]))  # w_i * p_i
+                    total = blame.sum()
+                    if total > 0:
+                        delta[occ] = self.l_occ * np.minimum(1.0, self.echo_share * blame / total)
+                    else:
+                        delta[occ] = 0.0
+            else:
+                delta = np.where(occ, self.l_occ, self.l_free)
+            lo = np.clip(lo + delta, self.l_min, self.l_max)
             flat_lo[idx] = lo
             flat_val[idx] = log_odds_to_values(lo)
