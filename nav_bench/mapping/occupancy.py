@@ -112,6 +112,12 @@ class OccupancyGrid(OnGridFrame):
         self._disc_rc = np.zeros((0, 2), dtype=np.int64)
         self._disc_xy = np.zeros((0, 2))
         self._disc_d = np.zeros(0)
+        self._disc_bearing = np.zeros((0, 2))
+        self._disc_x = self._disc_y = np.zeros(0)
+        self._disc_span = 0
+        self._disc_flat = np.zeros(0, dtype=np.int64)
+        self._sector_key: tuple[float, float, int] | None = None
+        self._sector_cos = np.zeros(0)
 
     # -- state -------------------------------------------------------------------------------
     def values(self, copy: bool = True) -> np.ndarray:
@@ -148,8 +154,36 @@ class OccupancyGrid(OnGridFrame):
         order = np.argsort(d[keep], kind="stable")
         self._disc_rc = np.stack([dr.ravel()[keep], dc.ravel()[keep]], axis=1)[order]
         self._disc_xy = self._disc_rc[:, ::-1].astype(float) * cell  # (dx, dy) in m
+        self._disc_x = np.ascontiguousarray(self._disc_xy[:, 0])
+        self._disc_y = np.ascontiguousarray(self._disc_xy[:, 1])
+        self._disc_span = n  # cells from the centre to the disc's edge, along a row or column
+        self._disc_flat = self._disc_rc[:, 0] * self.frame.cols + self._disc_rc[:, 1]  # flat offsets
         self._disc_d = d[keep][order]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            bearing = self._disc_xy / self._disc_d[:, None]  # unit (cos, sin) of each offset
+        self._disc_bearing = np.nan_to_num(bearing, nan=0.0)  # the centre cell: (0, 0)
         self._disc_radius = radius
+        self._sector_key = None
+
+    def _sector_threshold(self, half_cone: float, slack: float) -> np.ndarray:
+        """(n,) per disc cell: the smallest cos(bearing - axis) a cell can have and still lie
+        in the (widened) cone of a sonar within ``slack`` m of the disc's centre.
+
+        A cell at distance ``d`` whose bearing from the centre is ``phi`` is seen from the sonar
+        at a bearing at most ``asin(slack / d)`` away, and the cone's half-cell widening adds at
+        most ``asin(cell / (2 (d - slack)))``: a cheap sector test on precomputed bearings keeps
+        the exact cone test to the few cells that can pass it.
+        """
+        key = (half_cone, slack, len(self._disc_d))
+        if self._sector_key != key:
+            d = self._disc_d
+            with np.errstate(divide="ignore", invalid="ignore"):
+                shift = np.arcsin(np.minimum(1.0, slack / d))
+                widen = np.arcsin(np.minimum(1.0, self.frame.cell / (2 * np.maximum(d - slack, 1e-12))))
+            angle = np.nan_to_num(half_cone + shift + widen, nan=math.pi)
+            self._sector_cos = np.where(angle >= math.pi, -2.0, np.cos(np.minimum(angle, math.pi)) - 1e-9)
+            self._sector_key = key
+        return self._sector_cos
 
     def update(self, pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo) -> None:
         """Fuse one set of sonar readings taken at ``pose``.
@@ -161,7 +195,7 @@ class OccupancyGrid(OnGridFrame):
             sonar: mount angles/offsets, cone and range limits of the K sonars.
         """
         x, y, yaw = (float(v) for v in pose[:3])
-        ranges = np.asarray(ranges, dtype=float)
+        ranges = np.asarray(ranges, dtype=float).reshape(-1)
         cell, half_t = self.frame.cell, self.hit_thickness / 2
         mount_reach = float(np.max(np.hypot(sonar.offsets[:, 0], sonar.offsets[:, 1]), initial=0.0))
         self._ensure_disc(sonar.max_range + half_t + mount_reach + cell)
@@ -169,11 +203,15 @@ class OccupancyGrid(OnGridFrame):
         cx0, cy0 = (float(v) for v in self.frame.cell_center(r0, c0))
         half_cone = sonar.cone / 2
         tan_half = math.tan(half_cone)
+        # a sonar lies within mount_reach of the robot, the robot within half a diagonal of cell0's centre
+        sector = self._sector_threshold(half_cone, mount_reach + cell * math.sqrt(0.5))
         cos_y, sin_y = math.cos(yaw), math.sin(yaw)
         height, width = self.frame.shape
+        span = self._disc_span  # the whole disc on the grid: no cell needs a bounds check
+        inside = span <= r0 < height - span and span <= c0 < width - span
         flat_lo = self._log_odds.reshape(-1)
-        flat_val = self._values.reshape(-1)
         elfes = self.model == "elfes"
+        updated = []
         for k in range(len(ranges)):
             ox, oy = sonar.offsets[k]
             sx = x + cos_y * ox - sin_y * oy  # sonar position, world frame
@@ -185,41 +223,44 @@ class OccupancyGrid(OnGridFrame):
             reach = r + half_t if echo else sonar.max_range
             # centres within `reach` of the sonar lie within reach + |sonar - cell0| of cell0's centre
             n = int(np.searchsorted(self._disc_d, reach + math.hypot(sx - cx0, sy - cy0), "right"))
-            dx = cx0 + self._disc_xy[:n, 0] - sx
-            dy = cy0 + self._disc_xy[:n, 1] - sy
+            near = np.flatnonzero(self._disc_bearing[:n] @ np.array([ux, uy]) >= sector[:n])
+            dx = self._disc_x[near] + (cx0 - sx)
+            dy = self._disc_y[near] + (cy0 - sy)
             along = dx * ux + dy * uy
             lateral = np.abs(dy * ux - dx * uy)
-            cone = np.flatnonzero((along > 0) & (lateral <= along * tan_half + cell / 2))
-            rows = r0 + self._disc_rc[cone, 0]
-            cols = c0 + self._disc_rc[cone, 1]
-            on_grid = (rows >= 0) & (rows < height) & (cols >= 0) & (cols < width)
-            cone, rows, cols = cone[on_grid], rows[on_grid], cols[on_grid]
-            dist = np.hypot(dx[cone], dy[cone])
+            cone = (along > 0) & (lateral <= along * tan_half + cell / 2)
+            dist = np.hypot(dx, dy)
             if echo:
-                free = dist < r - half_t
-                occ = np.abs(dist - r) <= half_t
+                occ = cone & (np.abs(dist - r) <= half_t)
+                touched = occ | (cone & (dist < r - half_t))
             else:
-                free = dist <= sonar.max_range
-                occ = np.zeros_like(free)
-            touched = free | occ
-            idx = rows[touched] * width + cols[touched]  # unique within one sonar
+                occ = None
+                touched = cone & (dist <= sonar.max_range)
+            if inside:
+                idx = (r0 * width + c0) + self._disc_flat[near[touched]]  # unique within one sonar
+            else:
+                rows = r0 + self._disc_rc[near, 0]
+                cols = c0 + self._disc_rc[near, 1]
+                touched &= (rows >= 0) & (rows < height) & (cols >= 0) & (cols < width)
+                idx = rows[touched] * width + cols[touched]
             lo = flat_lo[idx]
-            occ = occ[touched]
+            occ = occ[touched] if occ is not None else None
             if elfes:
                 # angle from the axis on the half-cell-widened cone (module docstring)
-                theta = np.arctan2(np.maximum(lateral[cone[touched]] - cell / 2, 0.0),
-                                   along[cone[touched]])
-                w = np.clip(1.0 - (theta / half_cone) ** 2, 0.0, 1.0)
+                theta = np.arctan2(np.maximum(lateral[touched] - cell / 2, 0.0), along[touched])
+                w = np.maximum(1.0 - np.square(theta / half_cone), 0.0)
                 delta = w * self.l_free
-                if occ.any():
+                if occ is not None and occ.any():
                     blame = w[occ] / (1.0 + np.exp(-lo[occ]))  # w_i * p_i
-                    total = blame.sum()
-                    if total > 0:
-                        delta[occ] = self.l_occ * np.minimum(1.0, self.echo_share * blame / total)
-                    else:
-                        delta[occ] = 0.0
-            else:
+                    total = float(blame.sum())
+                    delta[occ] = (self.l_occ * np.minimum(1.0, self.echo_share * blame / total)
+                                  if total > 0 else 0.0)
+            elif occ is not None:
                 delta = np.where(occ, self.l_occ, self.l_free)
-            lo = np.clip(lo + delta, self.l_min, self.l_max)
-            flat_lo[idx] = lo
-            flat_val[idx] = log_odds_to_values(lo)
+            else:
+                delta = self.l_free
+            flat_lo[idx] = np.minimum(np.maximum(lo + delta, self.l_min), self.l_max)
+            updated.append(idx)
+        if updated:
+            idx = np.concatenate(updated)
+            self._values.reshape(-1)[idx] = log_odds_to_values(flat_lo[idx])

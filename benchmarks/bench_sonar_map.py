@@ -1,0 +1,67 @@
+"""The sonar map's update, per control cycle: the Elfes model against the three-band model.
+
+    python benchmarks/bench_sonar_map.py [--reps 3000] [--seed 0] [--size 40]
+
+One ``OccupancyGrid.update`` per control cycle (6 sonars of the default robot, 25 deg cones,
+3 m range, 30% no-echo readings, random poses) on a ``size`` m world (40 m: 400 x 400 cells of
+0.1 m). Both models see the same poses and readings and are timed alternately, call by call,
+so they share the machine's load; prints median and 99th percentile (microseconds) and the
+ratio elfes / band. Target (issue 12): under 0.5 ms per update on 400 x 400.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import time
+
+import numpy as np
+
+from nav_bench.interface import SonarInfo
+from nav_bench.mapping import OccupancyGrid
+from nav_bench.mapping.occupancy import SONAR_MODELS
+
+TARGET_US = 500.0
+
+
+def diffbot_sonar() -> SonarInfo:
+    """The default robot's sonar ring: -90..90 deg on the body edge (0.18 m)."""
+    angles = np.radians([-90.0, -45.0, -15.0, 15.0, 45.0, 90.0])
+    return SonarInfo(angles=angles, offsets=0.18 * np.stack([np.cos(angles), np.sin(angles)], 1),
+                     cone=math.radians(25.0), min_range=0.05, max_range=3.0)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--reps", type=int, default=3000)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--size", type=float, default=40.0, help="world side, m (cells of 0.1 m)")
+    args = parser.parse_args()
+    rng = np.random.default_rng(args.seed)
+    sonar, size, n = diffbot_sonar(), args.size, args.reps + 50
+    poses = np.column_stack([rng.uniform(1.0, size - 1.0, n), rng.uniform(1.0, size - 1.0, n),
+                             rng.uniform(-math.pi, math.pi, n)])
+    scans = np.where(rng.random((n, 6)) < 0.3, 3.0, rng.uniform(0.2, 2.9, (n, 6)))
+    grids = {m: OccupancyGrid((0.0, 0.0, size, size), 0.1, model=m) for m in SONAR_MODELS}
+    times = {m: np.empty(args.reps) for m in SONAR_MODELS}
+    for i in range(n):
+        for model, grid in grids.items():  # alternate: both models under the same load
+            t0 = time.perf_counter_ns()
+            grid.update(poses[i], scans[i], sonar)
+            if i >= 50:  # the first 50 warm up (the disc of offsets is built on the first call)
+                times[model][i - 50] = time.perf_counter_ns() - t0
+    shape = next(iter(grids.values())).shape
+    print(f"OccupancyGrid.update, {shape[1]} x {shape[0]} grid, 6 sonars, {args.reps} updates "
+          f"per model, load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    stats = {m: (float(np.median(t)) / 1e3, float(np.percentile(t, 99)) / 1e3) for m, t in times.items()}
+    for model, (median, p99) in stats.items():
+        verdict = "under" if median < TARGET_US else "OVER"
+        print(f"  {model:6s} median {median:7.1f} us   p99 {p99:7.1f} us   ({verdict} the "
+              f"{TARGET_US:.0f} us target)")
+    (m_new, p_new), (m_old, p_old) = stats["elfes"], stats["band"]
+    print(f"  ratio elfes / band: median {m_new / m_old:.2f}, p99 {p_new / p_old:.2f}")
+
+
+if __name__ == "__main__":
+    main()
