@@ -5,6 +5,21 @@
 are a contract (INTERFACES.md); more fields are welcome. On disk a row is one line of JSON
 (:meth:`ResultRow.to_json`, :meth:`ResultRow.from_json`); keys this version does not know are
 kept in ``extra`` and written back unchanged.
+
+Map quality (planners that build an occupancy grid and return it from ``debug_state()`` as a
+:class:`~nav_bench.interface.GridState`: EO/PC, D* Lite; null for the others and absent from
+rows stored before the fields existed). Measured once at the end of the episode by
+:mod:`nav_bench.mapping.quality` on the planner's own cells, over the cells its sonars observed
+(value != 50), a cell occupied above 65, a marked cell within one cell of a true obstacle
+counted right:
+
+* ``map_precision``: share of the cells marked occupied that are true obstacles (null: none marked);
+* ``map_recall``: share of the observed true obstacle cells marked occupied (null: none observed);
+* ``map_phantom_share``: share of the true free cells on the optimal path (the path of
+  ``optimal_length_m``) that the map marks occupied: walls invented across the best route
+  (null: goal unreachable);
+* ``map_observed_cells``, ``map_occupied_cells``, ``map_path_cells``, ``map_phantom_cells``:
+  the counts behind them (integers).
 """
 
 from __future__ import annotations
