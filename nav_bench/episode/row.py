@@ -7,7 +7,8 @@ are a contract (INTERFACES.md); more fields are welcome. On disk a row is one li
 kept in ``extra`` and written back unchanged.
 
 Map quality (planners that build an occupancy grid and return it from ``debug_state()`` as a
-:class:`~nav_bench.interface.GridState`: EO/PC, D* Lite; null for the others and absent from
+:class:`~nav_bench.interface.GridState`: EO/PC, D* Lite, DWA with ``use_grid``, dwa_global;
+null for the others, and then left out of the JSON line like the other optional fields, as in
 rows stored before the fields existed). Measured once at the end of the episode by
 :mod:`nav_bench.mapping.quality` on the planner's own cells, over the cells its sonars observed
 (value != 50), a cell occupied above 65, a marked cell within one cell of a true obstacle
@@ -190,7 +191,8 @@ def count_events(events: list[dict[str, Any]]) -> dict[str, int]:
 
 _MEASURED_AT_THE_END = frozenset({"goal_distance_m", "odometry_error_m"})
 SCORE_FIELDS = ("barn_score",)  # protocols' scores: only rows played under that protocol have one
-_OMITTED_WHEN_NULL = _MEASURED_AT_THE_END | frozenset(MOTION_FIELDS) | frozenset(SCORE_FIELDS)
+_OMITTED_WHEN_NULL = (_MEASURED_AT_THE_END | frozenset(MOTION_FIELDS) | frozenset(SCORE_FIELDS)
+                      | frozenset(MAP_QUALITY_FIELDS))  # no grid: no map fields in the line
 _FIELD_NAMES = frozenset(f.name for f in dataclasses.fields(ResultRow)) - {"extra"}
 EPISODE_FIELDS = tuple(f.name for f in dataclasses.fields(ResultRow)
                        if f.name not in {"job_id", "label", "time_limit_s", "trace", "trace_error",
