@@ -47,7 +47,7 @@ from scipy import ndimage
 
 from nav_bench.errors import InputError
 from nav_bench.interface import Command, GridState, Observation
-from nav_bench.mapping.occupancy import OccupancyGrid
+from nav_bench.mapping.occupancy import SONAR_MODELS, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import STOP, arrival_speed, pure_pursuit, steer
 
@@ -351,6 +351,9 @@ class DStarLite(Planner):
         Param("cell", 0.1, "m", "side of the occupancy grid's cells", minimum=0.01),
         Param("occupied_above", 65, "0..100", "occupancy value above which a cell is an obstacle",
               minimum=50, maximum=99),
+        Param("sonar_model", "elfes", "-", "the grid's inverse sensor model (nav_bench.mapping.occupancy): "
+              "'elfes' weighs by angle and shares the echo over its arc; 'band' the whole arc (before issue 12)",
+              choices=SONAR_MODELS),
         Param("inflation_margin", 0.15, "m", "clearance beyond the robot radius that makes cells costly",
               minimum=0.0),
         # 1000, not 20: at 20 a path through a few inflated cells beat a detour of a few metres,
@@ -366,7 +369,7 @@ class DStarLite(Planner):
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
         p = self.settings
-        self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
+        self.grid = OccupancyGrid(obs.bounds, cell=p.cell, model=p.sonar_model)
         self.shape = self.grid.shape
         self.inflate_cells = (obs.robot.radius + p.inflation_margin) / p.cell
         self.struct = disk(self.inflate_cells)
