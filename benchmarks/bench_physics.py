@@ -1,7 +1,7 @@
 """Physics fidelity against the 240 Hz / 50-iteration reference, and what each setting costs.
 
 For each physics setting (rate in Hz, Bullet solver iterations, contact ERP: Bullet's own or
-``30 / rate``, i.e. penetration removed at 30/s, nav-bench's default) the robot is driven through
+``20 / rate``, i.e. penetration removed at 20/s, nav-bench's default) the robot is driven through
 scripted scenes with the control cycle at 10 Hz (``round(physics_hz / 10)`` physics steps per
 cycle, as an episode steps) and odometry noise off, and measured on what the benchmark's rows
 depend on:
@@ -87,12 +87,13 @@ REFERENCE = PhysicsSetting(240.0, 50)
 SETTINGS = (REFERENCE, PhysicsSetting(120.0), PhysicsSetting(80.0), PhysicsSetting(60.0),
             PhysicsSetting(40.0), PhysicsSetting(30.0), PhysicsSetting(240.0, 20),
             PhysicsSetting(120.0, 20), PhysicsSetting(60.0, 20), PhysicsSetting(60.0, 10),
-            PhysicsSetting(240.0, 50, 30.0), PhysicsSetting(120.0, 50, 30.0),
-            PhysicsSetting(80.0, 50, 30.0), PhysicsSetting(60.0, 50, 30.0),
-            PhysicsSetting(40.0, 50, 30.0), PhysicsSetting(30.0, 50, 30.0))
+            PhysicsSetting(240.0, 50, 20.0), PhysicsSetting(120.0, 50, 20.0),
+            PhysicsSetting(80.0, 50, 20.0), PhysicsSetting(60.0, 50, 20.0),
+            PhysicsSetting(40.0, 50, 20.0), PhysicsSetting(30.0, 50, 20.0),
+            PhysicsSetting(60.0, 50, 30.0))
 QUICK_SETTINGS = (REFERENCE, PhysicsSetting(120.0), PhysicsSetting(60.0),
-                  PhysicsSetting(60.0, 20), PhysicsSetting(240.0, 50, 30.0),
-                  PhysicsSetting(60.0, 50, 30.0))
+                  PhysicsSetting(60.0, 20), PhysicsSetting(240.0, 50, 20.0),
+                  PhysicsSetting(60.0, 50, 20.0))
 
 
 @dataclass

@@ -18,7 +18,7 @@ Run::
     PYTHONPATH=. python benchmarks/fidelity_suite.py --ref results/paper/default_suite \\
         --run 120=results/fidelity/run_120 --run 60=results/fidelity/run_60 --out results/fidelity
 
-Writes ``suite.md`` and ``suite.json`` in ``--out``.
+Writes ``suite.md`` and ``suite.json`` in ``--out`` (``--stem`` to rename them).
 """
 
 from __future__ import annotations
@@ -201,8 +201,10 @@ def transition_table(ref_name: str, name: str, matrix: dict[str, dict[str, int]]
     return lines
 
 
-def report(ref_name: str, results: dict[str, dict], by_world: dict[str, dict]) -> str:
-    lines = ["## Paired suite study: the physics rate's effect on outcomes, paths and cost", "",
+def report(ref_name: str, results: dict[str, dict], by_world: dict[str, dict],
+           title: str | None = None) -> str:
+    title = title or "Paired suite study: the physics rate's effect on outcomes, paths and cost"
+    lines = [f"## {title}", "",
              "Episodes paired by (world, parameter set, seed). Success with its Wilson 95 % "
              "interval; `only A / only B` counts episodes reached in one run only, with the "
              "exact two-sided sign (McNemar) test's p; path and time differences over episodes "
@@ -227,7 +229,9 @@ def main() -> None:
     parser.add_argument("--ref-name", default="240")
     parser.add_argument("--run", action="append", default=[], metavar="NAME=FOLDER",
                         help="a run to compare (repeatable), e.g. 60=results/fidelity/run_60")
-    parser.add_argument("--out", default="results/fidelity", help="folder for suite.md/json")
+    parser.add_argument("--out", default="results/fidelity", help="folder for the tables")
+    parser.add_argument("--stem", default="suite", help="file names: STEM.md and STEM.json")
+    parser.add_argument("--title", default=None, help="heading of the markdown")
     args = parser.parse_args()
     if not args.run:
         parser.error("give at least one --run NAME=FOLDER")
@@ -240,17 +244,17 @@ def main() -> None:
         other = read_run(Path(folder))
         results[name] = compare(ref, other, by=1)
         by_world[name] = compare(ref, other, by=0)
-    text = report(args.ref_name, results, by_world)
+    text = report(args.ref_name, results, by_world, args.title)
     print(text)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "suite.md").write_text(text + "\n")
+    (out / f"{args.stem}.md").write_text(text + "\n")
 
     def plain(res: dict) -> dict:
         return {**res, "overall": asdict(res["overall"]),
                 "groups": [asdict(g) for g in res["groups"]]}
 
-    (out / "suite.json").write_text(json.dumps(
+    (out / f"{args.stem}.json").write_text(json.dumps(
         {"reference": args.ref, "runs": {n: plain(r) for n, r in results.items()},
          "by_world": {n: plain(r) for n, r in by_world.items()}}, indent=1) + "\n")
 

@@ -28,14 +28,14 @@ PHYSICS_HZ = 60.0
 # Contact penetration is removed at this rate (1/s): Bullet's contact ERP, the fraction of a
 # penetration corrected per step, is set to CONTACT_RECOVERY_HZ / physics_hz (at most 1), so a
 # contact behaves alike at every physics rate. Movers are teleported every step (static bodies
-# without velocity), so the solver sees a mover pushing the robot only as penetration. With
-# Bullet's own ERP a 0.4 m/s box mover ran through a standing robot at 60 Hz (0.7 m/s at
-# 120 Hz); at 30/s none did up to 1 m/s at 30-240 Hz, the penetration is the same at every rate
-# (13 mm at 0.4 m/s, 33 mm at 1 m/s; 21 and 52 mm with Bullet's ERP at 240 Hz), and tracking,
-# odometry, stopping and wall contacts did not change (benchmarks/bench_physics.py,
-# results/fidelity/physics.md). A fixed ERP of 0.3 or more made a robot pressed into a wall at
-# 240 Hz bounce off it and count a second collision.
-CONTACT_RECOVERY_HZ = 30.0
+# without velocity), so the solver sees a mover pushing the robot only as penetration, removed
+# at ERP x rate per second. Bullet's own ERP is fixed per step: fine at 240 Hz, but at 60 Hz a
+# 0.4 m/s box mover ran through a standing robot (0.7 m/s at 120 Hz). 20/s gives at every rate
+# the penetration Bullet's own ERP gives at 240 Hz (20 mm at 0.4 m/s, 50 mm at 1 m/s) and no
+# mover runs through the robot up to 1 m/s; tracking, odometry, stopping and wall contacts do
+# not change (benchmarks/bench_physics.py, results/fidelity/physics.md). 30/s (ERP 0.5 at
+# 60 Hz) made a robot held against a mover chatter: 13 contact episodes instead of 1.
+CONTACT_RECOVERY_HZ = 20.0
 # Bullet's constraint solver iterations per physics step (Bullet's own default). Fewer make a
 # step cheaper but the robot creeps at rest and misses its acceleration limit at 30 or fewer
 # (tests/sim/test_sim_robot.py; benchmarks/bench_physics.py measures 20 and 10).
