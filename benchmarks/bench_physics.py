@@ -368,8 +368,11 @@ def main() -> None:
     settings = QUICK_SETTINGS if args.quick else SETTINGS
     repeats = 1 if args.quick else args.repeats
     results = [Fidelity(s.name, s.hz, s.iterations) for s in settings]
-    with SimSession() as session:
-        for setting, res in zip(settings, results, strict=True):
+    for setting, res in zip(settings, results, strict=True):
+        # a session per setting: Bullet keeps a contact ERP once set, and has no call to
+        # restore its own
+        with SimSession(physics_hz=setting.hz, solver_iterations=setting.iterations,
+                        contact_recovery_hz=setting.recovery) as session:
             res.tracking = measure_tracking(session, setting)
             res.odometry = measure_odometry(session, setting)
             res.stopping = measure_stopping(session, setting)
