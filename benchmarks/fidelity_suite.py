@@ -165,6 +165,10 @@ def _pct(p: float, ci: tuple[float, float]) -> str:
     return f"{100 * p:.0f} % [{100 * ci[0]:.0f}, {100 * ci[1]:.0f}]"
 
 
+def _p(p: float) -> str:
+    return f"{p:.2f}" if p >= 0.01 else f"{p:.0e}"
+
+
 def _diff(med: float, iqr: tuple[float, float], unit: str) -> str:
     if math.isnan(med):
         return "-"
@@ -184,7 +188,7 @@ def stats_table(name: str, ref_name: str, stats: list[PairedStats]) -> list[str]
         lines.append(
             f"| {s.group} | {s.n} | {_pct(s.success_ref, s.success_ref_ci)} | "
             f"{_pct(s.success, s.success_ci)} | {s.only_ref} / {s.only_other} "
-            f"({s.sign_test_p:.2f}) | {s.both_reached} | "
+            f"({_p(s.sign_test_p)}) | {s.both_reached} | "
             f"{_diff(s.path_diff_median_m, s.path_diff_iqr_m, 'm')} | {same_path} | "
             f"{_diff(s.time_diff_median_s, s.time_diff_iqr_s, 's')} | {same_time} | "
             f"{s.collisions_ref} / {s.collisions} | {s.wall_ref_s:.0f} / {s.wall_s:.0f} "
