@@ -100,7 +100,8 @@ class Limits(Strict):
     stuck_area_radius: PositiveFloat | None = None  # m, the oscillating robot's disc (3 x stuck_s)
     goal_tolerance: PositiveFloat | None = None  # m
     control_hz: PositiveFloat | None = None  # planner cycles per second
-    physics_hz: PositiveFloat | None = None  # physics steps per second
+    # physics steps per second (default 60: results/fidelity/README.md; 240 plays the reference)
+    physics_hz: PositiveFloat | None = None
     # wall-clock s per episode before it is killed; null: 900. At most a week: a bound a
     # timer can hold
     wall_s: Annotated[float, Field(gt=0.0, le=MAX_WALL_S)] | None = None
