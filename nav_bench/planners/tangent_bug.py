@@ -43,7 +43,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from nav_bench.interface import Command, Observation, wrap_angle
+from nav_bench.interface import Command, Observation, StuckReason, wrap_angle
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import (
     FOLLOW,
@@ -250,6 +250,10 @@ class TangentBug(Planner):
                 nearest = pts[int(np.argmin(np.hypot(*(pts - xy).T)))]
                 return steer(obs, math.atan2(nearest[1] - xy[1], nearest[0] - xy[0]), v)
         return self.follower.act(obs)
+
+    def stuck_reason(self) -> StuckReason | None:
+        """NO_PATH once the loop detector has found the goal unreachable (the robot stops)."""
+        return StuckReason.NO_PATH if getattr(self, "mode", None) == UNREACHABLE else None
 
     def debug_state(self) -> dict[str, Any]:
         """``mode``, ``memory`` (M, 2) remembered echoes, ``follow_starts`` [[x, y], ...] where
