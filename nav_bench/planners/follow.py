@@ -180,13 +180,13 @@ def estimate_wall(obs: Observation, side: int, lost: float) -> WallEstimate | No
     return WallEstimate(distance=float(d[best].mean()), angle=wrap_angle(normal - side * math.pi / 2))
 
 
-def diagonal_ranges(obs: Observation, side: int) -> tuple[float, float]:
-    """Readings (m, ``max_range`` if no echo) of the sonars nearest 45 deg toward ``side`` and
-    toward the other side of the heading."""
+def diagonal_ranges(obs: Observation, side: int, angle: float) -> tuple[float, float]:
+    """Readings (m, ``max_range`` if no echo) of the sonars nearest ``angle`` (rad) from the
+    heading toward ``side`` and toward the other side."""
     s = obs.robot.sonar
     r = np.where(echo_mask(obs), np.asarray(obs.ranges, dtype=float), s.max_range)
-    near = int(np.argmin(np.abs(s.angles - side * math.pi / 4)))
-    far = int(np.argmin(np.abs(s.angles + side * math.pi / 4)))
+    near = int(np.argmin(np.abs(s.angles - side * angle)))
+    far = int(np.argmin(np.abs(s.angles + side * angle)))
     return float(r[near]), float(r[far])
 
 
@@ -235,9 +235,13 @@ class WallFollower:
             # rounding a corner that just ended there, or its diagonal sonar sees open space
             # the other diagonal does not (the robot came round a convex corner too wide and
             # now faces the far wall of the corridor it is turning into).
-            toward, away = diagonal_ranges(obs, s)
+            toward, away = diagonal_ranges(obs, s, math.pi / 4)
+            front_toward, front_away = diagonal_ranges(obs, s, math.radians(15))
             rounding = 0 < self._since_wall <= self.corner_cycles
-            open_side = toward > self.front + 0.3 and toward > away + 0.2
+            # open on the wall side at both the diagonal and the front sonar: the obstacle
+            # ahead leans to the far side (in clutter a lone diagonal gap is too narrow)
+            open_side = (toward > self.front + 0.3 and toward > away + 0.2
+                         and front_toward > front_away + 0.05)
             turn = s if (rounding or open_side) and toward >= away else -s
             return limit(0.0, turn * 0.6 * robot.omega_max, robot)
         v = min(self.speed, robot.v_max)
