@@ -146,3 +146,23 @@ def test_trapped_by_the_u_like_other_local_methods() -> None:
     result = run(VFHPlus(), world, start, goal, time_s=60.0)
     assert not result.reached and result.collisions == 0
     assert result.poses[-1, 0] < 5.0  # never got past the bottom of the U
+
+
+@pytest.mark.slow
+def test_passes_a_one_metre_door_in_the_simulator() -> None:
+    """PyBullet: a wall across a 10 x 6 m room with a 1 m door off the straight line."""
+    from nav_bench.episode import EpisodeSettings
+    from nav_bench.episode.loop import run_episode
+    from nav_bench.specs import PlannerSetSpec
+    from nav_bench.world.load import world_from_data
+
+    world = world_from_data({
+        "name": "door_1m", "size": [10.0, 6.0], "start": [2.0, 2.5], "goal": [8.0, 2.5],
+        "obstacles": [{"wall": {"from": [5.0, 0.0], "to": [5.0, 3.5], "thickness": 0.15}},
+                      {"wall": {"from": [5.0, 4.5], "to": [5.0, 6.0], "thickness": 0.15}}]})
+    result = run_episode(world, PlannerSetSpec(planner="vfh_plus"), seed=0,
+                         settings=EpisodeSettings(time_s=120.0))
+    assert result.row.outcome == "reached", result.row
+    xy = result.trace.true_pose[:, :2]
+    crossing = xy[np.argmax(xy[:, 0] > 5.0)]
+    assert 3.5 < crossing[1] < 4.5  # through the door
