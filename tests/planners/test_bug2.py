@@ -165,3 +165,20 @@ def test_bug2_says_no_path_once_the_goal_is_unreachable() -> None:
     assert planner.stuck_reason() is None
     planner.mode = UNREACHABLE
     assert planner.stuck_reason() is StuckReason.NO_PATH
+
+
+def test_wall_follower_turns_into_a_corridor_round_a_corner_on_its_wall_side() -> None:
+    """An L-shaped 1 m corridor turning right (maze generator geometry): going round the
+    corner the robot faces the corridor's far wall; it must turn toward its wall side, into
+    the corridor, not away from it (which sent it back the way it came, round the pocket,
+    and made the loop detector call a reachable goal unreachable)."""
+    walls = [(1.0, 0.0, 1.1, 3.3),   # right wall of the vertical leg, ends at y = 3.3
+             (1.0, 3.25, 6.0, 3.35),  # bottom wall of the horizontal leg
+             (0.0, 4.35, 6.0, 4.45)]  # top wall of the horizontal leg (ahead of the vertical one)
+    world = BoxWorld.room((6.0, 5.0), walls)
+    result = run(_FollowOnly(), world, (0.5, 1.0, math.pi / 2), (5.9, 0.1), time_s=30.0,
+                 noise_std=0.01)
+    xy = result.poses[:, :2]
+    assert result.collisions == 0
+    assert xy[:, 0].max() > 3.0  # along the horizontal leg
+    assert xy[np.argmax(xy[:, 0] > 1.5):, 1].min() > 3.35  # and stayed in it
