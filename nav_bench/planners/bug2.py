@@ -26,7 +26,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from nav_bench.interface import Command, Observation
+from nav_bench.interface import Command, Observation, StuckReason
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import (
     FOLLOW,
@@ -141,6 +141,10 @@ class Bug2(Planner):
                 cmd = self.follower.act(obs)
         self._prev_xy = xy.copy()
         return cmd
+
+    def stuck_reason(self) -> StuckReason | None:
+        """NO_PATH once the loop detector has found the goal unreachable (the robot stops)."""
+        return StuckReason.NO_PATH if getattr(self, "mode", None) == UNREACHABLE else None
 
     def debug_state(self) -> dict[str, Any]:
         """``mode``, ``hit_points`` [[x, y], ...] and ``m_line`` [[start], [goal]] (m)."""

@@ -180,14 +180,26 @@ def estimate_wall(obs: Observation, side: int, lost: float) -> WallEstimate | No
     return WallEstimate(distance=float(d[best].mean()), angle=wrap_angle(normal - side * math.pi / 2))
 
 
+def diagonal_ranges(obs: Observation, side: int, angle: float) -> tuple[float, float]:
+    """Readings (m, ``max_range`` if no echo) of the sonars nearest ``angle`` (rad) from the
+    heading toward ``side`` and toward the other side."""
+    s = obs.robot.sonar
+    r = np.where(echo_mask(obs), np.asarray(obs.ranges, dtype=float), s.max_range)
+    near = int(np.argmin(np.abs(s.angles - side * angle)))
+    far = int(np.argmin(np.abs(s.angles + side * angle)))
+    return float(r[near]), float(r[far])
+
+
 class WallFollower:
     """Keep a wall on one side at a set distance using only the sonars (a reactive follower).
 
     Rules, in order: (1) something close ahead (front corridor) -> turn on the spot away
     from the wall side, or toward it while rounding a corner (the wall was fitted within the
-    last ``corner_cycles`` cycles and is gone: the opening is on that side);
+    last ``corner_cycles`` cycles and is gone: the opening is on that side) or when the
+    wall side's diagonal sonar sees open space the other does not (:func:`diagonal_ranges`);
     (2) a wall fitted on the followed side (:func:`estimate_wall`) -> steer to make it
-    parallel at ``distance``; (3) no wall on that side (its end has passed) -> arc toward
+    parallel at ``distance`` (or in the middle of a corridor narrower than twice that, so the
+    far wall does not push the robot into the near one); (3) no wall on that side (its end has passed) -> arc toward
     that side with radius ``distance`` to round the corner.
 
     Args:
@@ -219,14 +231,28 @@ class WallFollower:
         wall = estimate_wall(obs, s, lost=self.distance + 0.6)
         self._since_wall = 0 if wall is not None else self._since_wall + 1
         if obstacle_ahead(obs, self.front, half_width) < self.front:
-            # rounding a corner that just ended on our side: the open side is the wall side
+            # Turn away from the wall (a concave corner) unless the way on is on the wall side:
+            # rounding a corner that just ended there, or its diagonal sonar sees open space
+            # the other diagonal does not (the robot came round a convex corner too wide and
+            # now faces the far wall of the corridor it is turning into).
+            toward, away = diagonal_ranges(obs, s, math.pi / 4)
+            front_toward, front_away = diagonal_ranges(obs, s, math.radians(15))
             rounding = 0 < self._since_wall <= self.corner_cycles
-            return limit(0.0, (s if rounding else -s) * 0.6 * robot.omega_max, robot)
+            # open on the wall side at both the diagonal and the front sonar: the obstacle
+            # ahead leans to the far side (in clutter a lone diagonal gap is too narrow)
+            open_side = (toward > self.front + 0.3 and toward > away + 0.2
+                         and front_toward > front_away + 0.05)
+            turn = s if (rounding or open_side) and toward >= away else -s
+            return limit(0.0, turn * 0.6 * robot.omega_max, robot)
         v = min(self.speed, robot.v_max)
         if wall is None:  # the wall ended: round its end
             radius = max(self.distance, 1e-3)
             return limit(0.6 * v, s * 0.6 * v / radius, robot)
-        err = max(-0.5, min(0.5, wall.distance - self.distance))
+        target = self.distance
+        other = estimate_wall(obs, -s, lost=self.distance + 0.6)
+        if other is not None:  # a corridor narrower than twice the distance: keep to its middle
+            target = min(target, 0.5 * (wall.distance + other.distance))
+        err = max(-0.5, min(0.5, wall.distance - target))
         omega = s * self.k_dist * err + self.k_angle * wall.angle
         v *= max(0.25, 1.0 - abs(omega) / robot.omega_max)
         return limit(v, omega, robot)
@@ -240,26 +266,66 @@ class EchoMemory:
     cycle; remembering recent echoes lets a planner reason about what it just drove past.
     Odometry drift over a few seconds is small, so the points stay consistent.
 
+    With ``carve`` a point is also forgotten when a later reading sees through it: a cone
+    sonar returns the *nearest* surface in its cone, so a remembered point inside the inner
+    part of a cone (``carve_cone`` of its half angle) and nearer than the reading by more than
+    ``carve_margin`` is not there (it was a misplaced cone echo, or the robot's odometry moved
+    it). That keeps a long memory (``horizon = inf``) truthful. ``spacing`` > 0 keeps one point
+    per ``spacing`` m square (the newest), so a long memory stays small.
+
     Args:
-        horizon: how long an echo is kept, s.
+        horizon: how long an echo is kept, s (``inf``: until carved or dropped by capacity).
         capacity: at most this many points are kept (oldest dropped first).
+        carve: forget points later readings see through.
+        spacing: side of the de-duplication squares, m (0: keep every echo).
     """
 
-    def __init__(self, horizon: float, capacity: int = 4000) -> None:
+    def __init__(self, horizon: float, capacity: int = 4000, *, carve: bool = False,
+                 spacing: float = 0.0, carve_margin: float = 0.15, carve_cone: float = 0.8) -> None:
         self.horizon, self.capacity = horizon, capacity
+        self.carve, self.spacing = carve, spacing
+        self.carve_margin, self.carve_cone = carve_margin, carve_cone
         self._xy = np.zeros((0, 2))
         self._t = np.zeros(0)
 
     def clear(self) -> None:
         self._xy, self._t = np.zeros((0, 2)), np.zeros(0)
 
+    def _carve(self, obs: Observation) -> None:
+        """Drop remembered points that this cycle's readings see through (vectorised over
+        points x sonars)."""
+        if len(self._xy) == 0:
+            return
+        s = obs.robot.sonar
+        x, y, yaw = (float(v) for v in obs.pose[:3])
+        c, si = math.cos(yaw), math.sin(yaw)
+        origin = np.stack([x + c * s.offsets[:, 0] - si * s.offsets[:, 1],
+                           y + si * s.offsets[:, 0] + c * s.offsets[:, 1]], axis=1)  # (K, 2)
+        r = np.where(np.isfinite(obs.ranges), np.asarray(obs.ranges, dtype=float), s.max_range)
+        d = self._xy[:, None, :] - origin[None, :, :]  # (M, K, 2)
+        dist = np.hypot(d[..., 0], d[..., 1])
+        off = np.abs(np.remainder(np.arctan2(d[..., 1], d[..., 0]) - (yaw + s.angles)[None, :] + math.pi,
+                                  2 * math.pi) - math.pi)
+        seen_through = (off <= self.carve_cone * s.cone / 2) & (dist < r[None, :] - self.carve_margin)
+        keep = ~seen_through.any(axis=1)
+        self._xy, self._t = self._xy[keep], self._t[keep]
+
     def add(self, obs: Observation) -> None:
-        """Store this cycle's echoes and forget those older than the horizon."""
+        """Store this cycle's echoes and forget those older than the horizon (or seen through)."""
+        if self.carve:
+            self._carve(obs)
         pts = world_echoes(obs)
         xy = np.concatenate([self._xy, pts])
         t = np.concatenate([self._t, np.full(len(pts), obs.t)])
         keep = t >= obs.t - self.horizon
-        self._xy, self._t = xy[keep][-self.capacity:], t[keep][-self.capacity:]
+        xy, t = xy[keep], t[keep]
+        if self.spacing > 0 and len(xy):
+            key = np.floor(xy / self.spacing).astype(np.int64)
+            # the newest point of each square: unique on the reversed order keeps the last one
+            _, first = np.unique(key[::-1], axis=0, return_index=True)
+            idx = np.sort(len(xy) - 1 - first)
+            xy, t = xy[idx], t[idx]
+        self._xy, self._t = xy[-self.capacity:], t[-self.capacity:]
 
     def points(self, center: np.ndarray | None = None, radius: float = math.inf) -> np.ndarray:
         """(M, 2) remembered points, optionally only those within ``radius`` m of ``center``."""
@@ -274,10 +340,16 @@ class EchoMemory:
 
 # ----------------------------------------------------------------------------- loops
 class LoopDetector:
-    """Has the robot come back to where it started following a boundary?
+    """Has the robot come back to where it started following a boundary, going the same way?
 
     Armed at a point; fires when the robot returns within ``radius`` m of it after having
-    been farther than ``2 * radius`` and having travelled at least ``min_length`` m.
+    been farther than ``2 * radius``, having travelled at least ``min_length`` m, and moving
+    (direction of its last 5 cm of displacement, not its yaw: turning on the spot sweeps the
+    yaw) within 60 deg of the direction in which it first left the ``radius`` circle, and
+    having turned by more than 1.5 pi in all (a lap round a boundary turns by 2 pi). The
+    direction tests tell a lap from a U-turn: following a wall into a dead-end pocket brings
+    the robot back past the arming point on the pocket's other wall, in a 1 m corridor within
+    0.2 m of it, but going the opposite way, having turned by pi.
     """
 
     def __init__(self, radius: float, min_length: float) -> None:
@@ -286,23 +358,43 @@ class LoopDetector:
         self._left = False
         self._travel = 0.0
         self._last: np.ndarray | None = None
+        self._direction: float | None = None  # direction of the last displacement, rad
+        self._exit_direction: float | None = None
+        self._anchor = np.zeros(2)
+        self._winding = 0.0  # total turn of the direction of motion since arming, rad
 
     def arm(self, xy: np.ndarray) -> None:
         self.origin = np.asarray(xy, dtype=float).copy()
         self._left, self._travel, self._last = False, 0.0, self.origin.copy()
+        self._direction = self._exit_direction = None
+        self._anchor = self.origin.copy()
+        self._winding = 0.0
 
     def disarm(self) -> None:
         self.origin = None
 
     def update(self, xy: np.ndarray) -> bool:
-        """Feed the current position; True when a full loop is detected."""
+        """Feed the current position; True when a full lap is detected."""
         if self.origin is None:
             return False
         xy = np.asarray(xy, dtype=float)
         if self._last is not None:
             self._travel += float(np.hypot(*(xy - self._last)))
         self._last = xy.copy()
+        step = xy - self._anchor
+        if float(np.hypot(*step)) >= 0.05:  # a direction from 5 cm of motion, not odometry jitter
+            direction = math.atan2(step[1], step[0])
+            if self._direction is not None:
+                self._winding += wrap_angle(direction - self._direction)
+            self._direction, self._anchor = direction, xy.copy()
         d = float(np.hypot(*(xy - self.origin)))
+        if self._exit_direction is None and d > self.radius:
+            self._exit_direction = self._direction
         if d > 2 * self.radius:
             self._left = True
-        return self._left and d < self.radius and self._travel >= self.min_length
+        if not (self._left and d < self.radius and self._travel >= self.min_length):
+            return False
+        if self._direction is None or self._exit_direction is None:
+            return True
+        return (abs(wrap_angle(self._direction - self._exit_direction)) < math.radians(60)
+                and abs(self._winding) > 1.5 * math.pi)

@@ -5,8 +5,9 @@ algorithm", The International Journal of Robotics Research 17(9):934-953, 1998.
 
 TangentBug assumes a 360 deg range sensor that shows the visible boundary of obstacles
 within range ``R``. Six sonars sample only six narrow cones, so the *local range
-function* is built from a short memory (:class:`~nav_bench.planners.follow.EchoMemory`) of
-the echoes of the last ``memory_s`` seconds in the world frame (from the odometry pose):
+function* is built from a memory (:class:`~nav_bench.planners.follow.EchoMemory`) of the
+echoes in the world frame (from the odometry pose), kept until a later reading sees through
+them (or for ``memory_s`` seconds when that is set):
 each echo within ``R`` at distance ``d`` blocks the directions within
 ``asin((radius + clearance) / d)`` of its bearing (the obstacle grown by the robot), and
 ``rho(theta)`` is the distance of the nearest echo blocking ``theta`` (free directions
@@ -27,9 +28,9 @@ less than TangentBug assumes, which is the point of comparing it on this robot.
   ``wall_distance`` on that side with the sonar wall follower. ``d_followed`` is the
   smallest goal distance of the near echoes (within ``wall_distance + 0.6`` m) seen ahead
   and on the followed side since following began;
-  ``d_reach`` is the goal distance of the farthest free point toward the goal
-  (``d_goal - min(free length, d_goal)`` from the range function, evaluated only when the
-  goal direction lies within the sonars' field of view). Leave when ``d_reach < d_followed - leave_margin``.
+  ``d_reach`` is the goal distance of the closest point of the free space the sonars see now
+  (:meth:`TangentBug._d_reach`: each sonar's axis up to its reading less the grown radius).
+  Leave when ``d_reach < d_followed - leave_margin`` (``d_followed`` from earlier cycles).
 * **Unreachable**: back where following began (``loop_radius``) after a lap -> stop and emit
   ``unreachable``.
 
@@ -43,7 +44,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from nav_bench.interface import Command, Observation, wrap_angle
+from nav_bench.interface import Command, Observation, StuckReason, wrap_angle
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import (
     FOLLOW,
@@ -100,8 +101,8 @@ class TangentBug(Planner):
         Param("v_max", 0.4, "m/s", "cruise speed (capped by the robot's limit)", minimum=0.0),
         Param("sensing_range", 0.0, "m", "range R of the local range function; 0 = the sonar max range",
               minimum=0.0),
-        Param("memory_s", 8.0, "s", "how long sonar echoes are kept to build the range function",
-              minimum=0.0),
+        Param("memory_s", 0.0, "s", "how long sonar echoes are kept to build the range function; "
+              "0 = until a later reading sees through them", minimum=0.0),
         Param("clearance", 0.15, "m", "extra clearance added to the robot radius when growing echoes",
               minimum=0.0),
         Param("directions", 120, "-", "number of directions of the local range function", minimum=8),
@@ -120,7 +121,10 @@ class TangentBug(Planner):
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
         p = self.settings
-        self.memory = EchoMemory(p.memory_s)
+        # a persistent memory cleaned by later readings: with an 8 s horizon the wall behind
+        # the robot was forgotten while it followed the boundary, the goal direction looked
+        # free, and it left the boundary only to hit the same wall again
+        self.memory = EchoMemory(p.memory_s or math.inf, carve=True, spacing=0.05)
         self.mode = GO
         self.h_min = math.inf
         self.stall = 0
@@ -167,6 +171,26 @@ class TangentBug(Planner):
             o = xy + dist * np.array([math.cos(heading), math.sin(heading)])
             out.append((heading, dist + float(np.hypot(*(goal - o))), side))
         return False, free_len, out
+
+    def _d_reach(self, obs: Observation, xy: np.ndarray, goal: np.ndarray) -> float:
+        """TangentBug's ``d_reach`` (m): the goal distance of the closest point the robot can
+        *see* it can reach. The visible free set of six sonars is the segment along each
+        sonar's axis up to its reading (``R`` without an echo) less the grown robot radius,
+        cut where the echo memory blocks that direction. Directions no sonar covers are not
+        counted: counting them free (as the range function must, to move at all) made
+        ``d_reach`` fall by ``R`` whenever the goal was beside the robot, and the robot left
+        every boundary at once and hit it again."""
+        s = obs.robot.sonar
+        grow = obs.robot.radius + self.settings.clearance
+        r_sense = self._sensing_range(obs)
+        ang = float(obs.pose[2]) + s.angles
+        ranges = np.where(echo_mask(obs), np.asarray(obs.ranges, dtype=float), r_sense)
+        rho = range_function(self.memory.points(xy, r_sense), xy, grow, ang)
+        length = np.clip(np.minimum(np.minimum(ranges, r_sense) - grow, rho - grow), 0.0, None)  # (K,)
+        u = np.stack([np.cos(ang), np.sin(ang)], axis=1)
+        along = np.clip((goal - xy) @ u.T, 0.0, length)  # closest point of each free segment
+        closest = xy + along[:, None] * u
+        return float(np.hypot(*(closest - goal).T).min())
 
     # -- control -----------------------------------------------------------------------------------
     def _start_following(self, obs: Observation, xy: np.ndarray, side: int) -> None:
@@ -222,24 +246,23 @@ class TangentBug(Planner):
                 v: float) -> Command:
         p = self.settings
         assert self.follower is not None
-        # near echoes ahead and on the followed side belong to the followed obstacle
+        if self.loop.update(xy):
+            self.mode = UNREACHABLE
+            self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
+            return STOP
+        d_reach = self._d_reach(obs, xy, goal)
+        if self.acquired and d_reach < self.d_followed - p.leave_margin:
+            self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
+            self.loop.disarm()
+            return steer(obs, theta_g, arrival_speed(d_goal, v))
+        # after the leave test: d_followed is what the boundary showed *before* this cycle.
+        # Near echoes ahead and on the followed side belong to the followed obstacle.
         rel = self.side * obs.robot.sonar.angles
         near = np.asarray(obs.ranges) < p.wall_distance + 0.6
         side_echo = echo_mask(obs) & near & (rel > math.radians(-20))
         if side_echo.any():
             hits = obs.sonar_hits()[side_echo]
             self.d_followed = min(self.d_followed, float(np.hypot(*(hits - goal).T).min()))
-        if self.loop.update(xy):
-            self.mode = UNREACHABLE
-            self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
-            return STOP
-        half_fov = float(np.max(np.abs(obs.robot.sonar.angles))) + obs.robot.sonar.cone / 2
-        in_view = abs(wrap_angle(theta_g - float(obs.pose[2]))) <= half_fov
-        d_reach = d_goal - free_len if in_view else math.inf
-        if self.acquired and d_reach < self.d_followed - p.leave_margin:
-            self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
-            self.loop.disarm()
-            return steer(obs, theta_g, arrival_speed(d_goal, v))
         if not self.acquired:  # first approach the boundary: head for the nearest echo
             wall = estimate_wall(obs, self.side, lost=p.wall_distance + 0.6)
             close = wall is not None and wall.distance <= p.wall_distance + 0.1
@@ -250,6 +273,10 @@ class TangentBug(Planner):
                 nearest = pts[int(np.argmin(np.hypot(*(pts - xy).T)))]
                 return steer(obs, math.atan2(nearest[1] - xy[1], nearest[0] - xy[0]), v)
         return self.follower.act(obs)
+
+    def stuck_reason(self) -> StuckReason | None:
+        """NO_PATH once the loop detector has found the goal unreachable (the robot stops)."""
+        return StuckReason.NO_PATH if getattr(self, "mode", None) == UNREACHABLE else None
 
     def debug_state(self) -> dict[str, Any]:
         """``mode``, ``memory`` (M, 2) remembered echoes, ``follow_starts`` [[x, y], ...] where

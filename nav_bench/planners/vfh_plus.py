@@ -2,10 +2,11 @@
 
 Reference: I. Ulrich and J. Borenstein, "VFH+: Reliable obstacle avoidance for fast mobile
 robots", Proc. IEEE International Conference on Robotics and Automation (ICRA), 1998,
-pp. 1572-1577. The certainty grid is updated as in HIMM (J. Borenstein and Y. Koren,
-"The vector field histogram - fast obstacle avoidance for mobile robots", IEEE Trans.
-Robotics and Automation 7(3), 1991): ``+increment`` at the cell on the sonar axis at the
-measured range, ``-1`` on the cells the axis crossed before it, clamped to ``[0, c_max]``.
+pp. 1572-1577. The certainty grid is the shared sonar map every map-building planner uses
+(:class:`~nav_bench.mapping.occupancy.OccupancyGrid`) read as certainty
+(:func:`certainty_from_occupancy`: occupancy 50..100 -> 0..``c_max``, unknown and free 0), in
+place of HIMM's axis-only counts (Borenstein & Koren 1991), so the map plots and map-quality
+figures compare like with like across planners.
 
 Each cycle, on the cells of the active window (``window_radius`` m around the robot, or
 the goal distance when that is shorter: VFH+ has no notion of a goal position, and a wall
@@ -39,8 +40,9 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from nav_bench.interface import Command, Observation, wrap_angle
+from nav_bench.interface import Command, GridState, Observation, StuckReason, wrap_angle
 from nav_bench.mapping.grid import GridFrame
+from nav_bench.mapping.occupancy import OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import STOP, arrival_speed, limit
 
@@ -152,55 +154,34 @@ def choose_direction(candidates: list[float], k_target: float, k_heading: float,
     return float(c[int(np.argmin(cost))])
 
 
-class CertaintyGrid:
-    """HIMM certainty values (0..c_max) over a fixed grid, updated along the sonar axes."""
+def certainty_from_occupancy(values: np.ndarray, c_max: float) -> np.ndarray:
+    """VFH certainty (same shape, float 0..``c_max``) of occupancy values 0..100 (50 unknown).
 
-    def __init__(self, bounds: tuple[float, float, float, float], cell: float, increment: int,
-                 c_max: int) -> None:
-        self.frame = GridFrame.from_bounds(bounds, cell)
-        self.values = np.zeros(self.frame.shape, dtype=np.int16)
-        self.increment, self.c_max = increment, c_max
+    Only evidence of an obstacle counts: unknown and free cells (<= 50) are 0, a cell at 100
+    is ``c_max``, linearly in between. VFH's certainty is evidence that a cell is occupied;
+    the shared grid's log-odds above 0 is exactly that."""
+    occ = np.asarray(values, dtype=float)
+    return np.clip((occ - 50.0) / 50.0, 0.0, 1.0) * c_max
 
-    def update(self, obs: Observation) -> None:
-        s = obs.robot.sonar
-        x, y, yaw = (float(v) for v in obs.pose[:3])
-        c, si = math.cos(yaw), math.sin(yaw)
-        h, w = self.frame.shape
-        step = self.frame.cell / 2
-        for k in range(len(s.angles)):
-            ox = x + c * s.offsets[k, 0] - si * s.offsets[k, 1]
-            oy = y + si * s.offsets[k, 0] + c * s.offsets[k, 1]
-            a = yaw + s.angles[k]
-            r = float(obs.ranges[k])
-            echo = math.isfinite(r) and r < s.max_range
-            r = r if echo else s.max_range
-            t = np.arange(0.0, r, step)
-            rc = self.frame.world_to_cell(np.stack([ox + t * math.cos(a), oy + t * math.sin(a)], axis=1))
-            hit = self.frame.world_to_cell((ox + r * math.cos(a), oy + r * math.sin(a)))
-            ok = (rc[:, 0] >= 0) & (rc[:, 0] < h) & (rc[:, 1] >= 0) & (rc[:, 1] < w)
-            idx = np.unique(rc[ok, 0] * w + rc[ok, 1])
-            hit_idx = int(hit[0]) * w + int(hit[1]) if (0 <= hit[0] < h and 0 <= hit[1] < w) else -1
-            idx = idx[idx != hit_idx]
-            flat = self.values.reshape(-1)
-            flat[idx] = np.maximum(flat[idx] - 1, 0)
-            if echo and hit_idx >= 0:
-                flat[hit_idx] = min(int(flat[hit_idx]) + self.increment, self.c_max)
 
-    def active(self, xy: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
-        """Centres (M, 2) and certainties (M,) of the nonzero cells within ``radius`` m of ``xy``."""
-        cell = self.frame.cell
-        h, w = self.frame.shape
-        r0, c0 = self.frame.world_to_cell(xy)
-        n = math.ceil(radius / cell) + 1
-        rs, re = max(int(r0) - n, 0), min(int(r0) + n + 1, h)
-        cs, ce = max(int(c0) - n, 0), min(int(c0) + n + 1, w)
-        if rs >= re or cs >= ce:
-            return np.zeros((0, 2)), np.zeros(0)
-        sub = self.values[rs:re, cs:ce]
-        rr, cc = np.nonzero(sub)
-        centres = self.frame.cell_center(rr + rs, cc + cs)
-        near = np.hypot(centres[:, 0] - xy[0], centres[:, 1] - xy[1]) <= radius
-        return centres[near], sub[rr, cc][near].astype(float)
+def active_cells(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
+                 c_max: float) -> tuple[np.ndarray, np.ndarray]:
+    """Centres (M, 2) m and certainties (M,) of the cells with certainty > 0 within ``radius``
+    m of ``xy``: the active window of the occupancy ``values`` (H, W) 0..100 laid out by
+    ``frame``. Only the window's square is read (the live map, no copy)."""
+    cell = frame.cell
+    h, w = frame.shape
+    r0, c0 = (int(v) for v in frame.world_to_cell(xy))
+    n = math.ceil(radius / cell) + 1
+    rs, re = max(r0 - n, 0), min(r0 + n + 1, h)
+    cs, ce = max(c0 - n, 0), min(c0 + n + 1, w)
+    if rs >= re or cs >= ce:
+        return np.zeros((0, 2)), np.zeros(0)
+    cert = certainty_from_occupancy(values[rs:re, cs:ce], c_max)
+    rr, cc = np.nonzero(cert)
+    centres = frame.cell_center(rr + rs, cc + cs)
+    near = np.hypot(centres[:, 0] - xy[0], centres[:, 1] - xy[1]) <= radius
+    return centres[near], cert[rr, cc][near]
 
 
 class VFHPlus(Planner):
@@ -211,12 +192,12 @@ class VFHPlus(Planner):
                                 "mobile robots, ICRA 1998")
     params: ClassVar[tuple[Param, ...]] = (
         Param("v_max", 0.4, "m/s", "top speed in free space (capped by the robot's limit)", minimum=0.0),
-        Param("cell", 0.1, "m", "side of the certainty grid's cells", minimum=0.01),
-        Param("increment", 3, "-", "certainty added to the cell of an echo (HIMM I+)", minimum=1),
-        Param("c_max", 15, "-", "largest certainty value of a cell", minimum=1),
+        Param("cell", 0.1, "m", "side of the occupancy grid's cells", minimum=0.01),
+        Param("c_max", 15, "-", "certainty of a cell the grid holds certainly occupied (occupancy 100)",
+              minimum=1),
         Param("window_radius", 1.6, "m", "radius of the active window around the robot", minimum=0.1),
         Param("sector_deg", 5.0, "deg", "angular width of a histogram sector", minimum=0.5, maximum=45.0),
-        Param("safety_distance", 0.1, "m", "distance added to the robot radius to enlarge cells", minimum=0.0),
+        Param("safety_distance", 0.05, "m", "distance added to the robot radius to enlarge cells", minimum=0.0),
         Param("distance_weight", 4.0, "1/m^2", "b in m = c^2 (a - b d^2): how much nearer cells weigh",
               minimum=0.0),
         Param("threshold_low", 1500.0, "-", "histogram value below which a sector becomes free", minimum=0.0),
@@ -237,7 +218,8 @@ class VFHPlus(Planner):
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
         p = self.settings
-        self.grid = CertaintyGrid(obs.bounds, p.cell, p.increment, p.c_max)
+        self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
+        self.frame = GridFrame.from_bounds(self.grid.bounds, self.grid.cell)
         self.n = max(4, round(360.0 / p.sector_deg))
         self.alpha = 2 * math.pi / self.n
         self.binary = np.zeros(self.n, dtype=bool)
@@ -254,13 +236,13 @@ class VFHPlus(Planner):
     def act(self, obs: Observation) -> Command:
         p = self.settings
         robot = obs.robot
-        self.grid.update(obs)
+        self.grid.update(obs.pose, obs.ranges, obs.robot.sonar)
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         yaw = float(obs.pose[2])
         d_goal = float(np.hypot(*(goal - xy)))
         r_rs = robot.radius + p.safety_distance
         # obstacles beyond the goal cannot block the way to it: the window shrinks to the goal
-        cells, cert = self.grid.active(xy, min(p.window_radius, d_goal))
+        cells, cert = active_cells(self.grid.values(copy=False), self.frame, xy, min(p.window_radius, d_goal), p.c_max)
         self.primary = polar_histogram(cells, cert, xy, self.n, r_rs, p.window_radius,
                                        p.distance_weight)
         self.binary = binary_histogram(self.primary, self.binary, p.threshold_low, p.threshold_high)
@@ -294,11 +276,17 @@ class VFHPlus(Planner):
         self.v_prev = cmd.v
         return cmd if math.isfinite(cmd.v) else STOP
 
+    def stuck_reason(self) -> StuckReason | None:
+        """NO_PATH while no valley is open (every sector blocked: the robot turns on the spot
+        to re-sense, which the episode would otherwise call pinned or oscillating)."""
+        return StuckReason.NO_PATH if getattr(self, "blocked", False) else None
+
     def debug_state(self) -> dict[str, Any]:
-        """``certainty`` (H, W) HIMM grid with its ``bounds`` and ``cell``; ``primary_histogram``
-        (n,), ``masked_histogram`` (n,) 0/1, ``direction_sector`` (sector 0 = world +x, CCW)."""
+        """The shared occupancy grid (:class:`~nav_bench.interface.GridState`: ``pmo``,
+        ``bounds``, ``cell``), ``primary_histogram`` (n,), ``masked_histogram`` (n,) 0/1,
+        ``direction_sector`` (sector 0 = world +x, CCW)."""
         if not hasattr(self, "grid"):
             return {}
-        return {"certainty": self.grid.values.copy(), "bounds": list(self.grid.frame.bounds),
-                "cell": self.grid.frame.cell, "primary_histogram": self.primary.copy(),
+        grids = GridState(pmo=self.grid.values(), bounds=self.grid.bounds, cell=self.grid.cell)
+        return {**grids.state(), "primary_histogram": self.primary.copy(),
                 "masked_histogram": self.masked.astype(np.uint8), "direction_sector": float(self.k_prev)}

@@ -10,8 +10,10 @@ import math
 import numpy as np
 import pytest
 
+from nav_bench.interface import StuckReason
+from nav_bench.planners.base import Planner
 from nav_bench.planners.bug2 import FOLLOW, GO, UNREACHABLE, Bug2
-from nav_bench.planners.follow import LEFT, RIGHT, estimate_wall
+from nav_bench.planners.follow import LEFT, RIGHT, LoopDetector, WallFollower, estimate_wall
 from nav_bench.testing.harness import BoxWorld, default_robot, observe, run, u_world, wall_world
 
 
@@ -92,3 +94,91 @@ def test_wall_fit_accounts_for_the_cone_width(yaw_deg: float) -> None:
     assert wall.distance == pytest.approx(0.5, abs=0.01)
     assert math.degrees(wall.angle) == pytest.approx(-yaw_deg, abs=1.0)
     assert estimate_wall(obs, RIGHT, lost=1.1) is None  # nothing within reach on the right
+
+
+# -- the shared wall follower and loop detector (Bug2 and TangentBug both use them) -----------
+class _FollowOnly(Planner):
+    """A planner that only follows the wall on its right (the bug planners' follow mode)."""
+
+    name = "follow_only"
+
+    def reset(self, obs, rng) -> None:
+        super().reset(obs, rng)
+        self.follower = WallFollower(RIGHT, 0.5, 0.4, 0.5)
+
+    def act(self, obs):
+        return self.follower.act(obs)
+
+
+def _box_distance(xy: np.ndarray, box: tuple[float, float, float, float]) -> np.ndarray:
+    """(N,) distance (m) of points (N, 2) to an axis-aligned box."""
+    dx = np.maximum(np.maximum(box[0] - xy[:, 0], xy[:, 0] - box[2]), 0.0)
+    dy = np.maximum(np.maximum(box[1] - xy[:, 1], xy[:, 1] - box[3]), 0.0)
+    return np.hypot(dx, dy)
+
+
+def test_wall_follower_rounds_four_convex_corners_without_losing_the_box() -> None:
+    box = (4.0, 4.0, 6.0, 6.0)
+    world = BoxWorld.room((10.0, 10.0), [box])
+    result = run(_FollowOnly(), world, (3.5, 4.5, math.pi / 2), (9.5, 0.5), time_s=60.0,
+                 noise_std=0.01)
+    xy = result.poses[:, :2]
+    assert result.collisions == 0
+    d = _box_distance(xy, box)
+    assert d.max() < 1.0 and d.min() > 0.25  # the box stays beside the robot all the way round
+    bearing = np.unwrap(np.arctan2(xy[:, 1] - 5.0, xy[:, 0] - 5.0))
+    assert bearing[0] - bearing[-1] > 2 * math.pi  # clockwise (box on the right), a full lap
+
+
+def test_wall_follower_turns_round_a_door_frame() -> None:
+    """A 0.1 m thick wall end (a door frame): the robot turns by 180 deg round it and comes
+    back down the other face, never farther than 1 m from it."""
+    frame = (4.95, 0.0, 5.05, 4.0)
+    world = BoxWorld.room((10.0, 7.0), [frame])
+    result = run(_FollowOnly(), world, (4.45, 1.5, math.pi / 2), (9.5, 0.5), time_s=25.0,
+                 noise_std=0.01)
+    xy = result.poses[:, :2]
+    assert result.collisions == 0
+    assert _box_distance(xy, frame).max() < 1.0
+    other_face = (xy[:, 0] > 5.3) & (xy[:, 1] < 3.0)
+    assert other_face.any()  # came round the end and down the far side
+
+
+def test_loop_detector_tells_a_lap_from_a_u_turn() -> None:
+    lap = LoopDetector(radius=0.4, min_length=1.6)
+    lap.arm(np.array([0.0, 0.0]))
+    angles = np.linspace(0.0, 2 * math.pi + 0.3, 200)  # round a circle of 1 m radius and on
+    fired = [lap.update(np.array([math.sin(a), 1.0 - math.cos(a)])) for a in angles]
+    assert any(fired)
+    u_turn = LoopDetector(radius=0.4, min_length=1.6)
+    u_turn.arm(np.array([0.0, 0.0]))
+    out = [np.array([0.0, y]) for y in np.linspace(0.0, 3.0, 60)]  # up a corridor,
+    back = [np.array([0.3, y]) for y in np.linspace(3.0, -0.5, 70)]  # down its other side
+    assert not any(u_turn.update(p) for p in out + back)
+
+
+def test_bug2_says_no_path_once_the_goal_is_unreachable() -> None:
+    planner = Bug2()
+    world, start, goal = u_world()
+    obs = observe(world, np.array(start), np.array(goal), default_robot(), 0.0, 0.1)
+    planner.reset(obs, np.random.default_rng(0))
+    assert planner.stuck_reason() is None
+    planner.mode = UNREACHABLE
+    assert planner.stuck_reason() is StuckReason.NO_PATH
+
+
+def test_wall_follower_turns_into_a_corridor_round_a_corner_on_its_wall_side() -> None:
+    """An L-shaped 1 m corridor turning right (maze generator geometry): going round the
+    corner the robot faces the corridor's far wall; it must turn toward its wall side, into
+    the corridor, not away from it (which sent it back the way it came, round the pocket,
+    and made the loop detector call a reachable goal unreachable)."""
+    walls = [(1.0, 0.0, 1.1, 3.3),   # right wall of the vertical leg, ends at y = 3.3
+             (1.0, 3.25, 6.0, 3.35),  # bottom wall of the horizontal leg
+             (0.0, 4.35, 6.0, 4.45)]  # top wall of the horizontal leg (ahead of the vertical one)
+    world = BoxWorld.room((6.0, 5.0), walls)
+    result = run(_FollowOnly(), world, (0.5, 1.0, math.pi / 2), (5.9, 0.1), time_s=30.0,
+                 noise_std=0.01)
+    xy = result.poses[:, :2]
+    assert result.collisions == 0
+    assert xy[:, 0].max() > 3.0  # along the horizontal leg
+    assert xy[np.argmax(xy[:, 0] > 1.5):, 1].min() > 3.35  # and stayed in it

@@ -10,9 +10,11 @@ import math
 import numpy as np
 import pytest
 
+from nav_bench.interface import Observation, StuckReason
 from nav_bench.planners.bug2 import Bug2
+from nav_bench.planners.follow import FOLLOW, GO, RIGHT, UNREACHABLE, EchoMemory
 from nav_bench.planners.tangent_bug import TangentBug, blocked_interval_edges, range_function
-from nav_bench.testing.harness import run, u_world, wall_world
+from nav_bench.testing.harness import BoxWorld, default_robot, observe, run, u_world, wall_world
 
 
 def test_range_function_grows_each_echo_by_the_clearance_radius() -> None:
@@ -66,3 +68,59 @@ def test_stops_following_when_the_goal_is_reachable() -> None:
     rel = tail - tail[0]
     lateral = np.abs(rel[:, 0] * direction[1] - rel[:, 1] * direction[0])
     assert lateral.max() < 0.1
+
+
+def _following(world, pose: tuple[float, float, float], goal: tuple[float, float],
+               d_followed: float) -> tuple[TangentBug, Observation]:
+    """A TangentBug put in boundary following (acquired, right side) with ``d_followed``."""
+    robot = default_robot()
+    obs = observe(world, np.array(pose), np.array(goal), robot, 0.0, 0.1)
+    planner = TangentBug()
+    planner.reset(obs, np.random.default_rng(0))
+    planner._start_following(obs, np.array(pose[:2]), RIGHT)
+    planner.acquired, planner.d_followed = True, d_followed
+    return planner, observe(world, np.array(pose), np.array(goal), robot, 0.1, 0.1)
+
+
+def test_leave_condition_d_reach_below_d_followed_by_hand() -> None:
+    """The robot 3 m from the goal, facing it. Open room: the front sonars see 3 m of free
+    space toward the goal, d_reach < 1 m < d_followed = 2 m -> it leaves the boundary.
+    A wall 0.8 m ahead: the visible free space ends 0.35 m (robot radius + clearance) before
+    it, d_reach > 2 m = d_followed -> it keeps following."""
+    open_room_ = BoxWorld.room((8.0, 6.0))
+    planner, obs = _following(open_room_, (4.0, 3.0, 0.0), (7.0, 3.0), d_followed=2.0)
+    assert planner._d_reach(obs, np.array([4.0, 3.0]), np.array([7.0, 3.0])) < 1.0
+    planner.act(obs)
+    assert planner.mode == GO
+    walled = BoxWorld.room((8.0, 6.0), [(4.8, 1.0, 5.0, 5.0)])
+    planner, obs = _following(walled, (4.0, 3.0, 0.0), (7.0, 3.0), d_followed=2.0)
+    d_reach = planner._d_reach(obs, np.array([4.0, 3.0]), np.array([7.0, 3.0]))
+    assert 2.0 < d_reach < 3.0
+    planner.act(obs)
+    assert planner.mode == FOLLOW
+
+
+def test_echo_memory_keeps_a_wall_until_a_reading_sees_through_it() -> None:
+    """The wall behind the robot is remembered however long ago it was seen (the 8 s horizon
+    forgot it); a point a later reading sees through is dropped."""
+    robot = default_robot()
+    world = BoxWorld.room((8.0, 6.0), [(4.8, 1.0, 5.0, 5.0)])
+    memory = EchoMemory(math.inf, carve=True, spacing=0.05)
+    memory.add(observe(world, np.array([4.0, 3.0, 0.0]), np.array([7.0, 3.0]), robot, 0.0, 0.1))
+    wall_points = len(memory)
+    assert wall_points > 0
+    memory.add(observe(world, np.array([4.0, 3.0, math.pi]), np.array([7.0, 3.0]), robot, 100.0, 0.1))
+    assert np.any(np.abs(memory.points()[:, 0] - 4.8) < 0.1)  # still there after 100 s
+    phantom = Observation(t=101.0, pose=np.array([4.0, 3.0, 0.0]), goal=np.array([7.0, 3.0]),
+                          ranges=np.full(6, robot.sonar.max_range), robot=robot,
+                          bounds=world.bounds, dt=0.1)
+    memory.add(phantom)  # nothing ahead now (as if the wall had been a misplaced echo)
+    assert not np.any(np.abs(memory.points()[:, 0] - 4.8) < 0.1)
+
+
+def test_says_no_path_once_the_goal_is_unreachable() -> None:
+    world, start, goal = u_world()
+    planner, _ = _following(world, start, goal, d_followed=math.inf)
+    assert planner.stuck_reason() is None
+    planner.mode = UNREACHABLE
+    assert planner.stuck_reason() is StuckReason.NO_PATH

@@ -10,12 +10,14 @@ import math
 import numpy as np
 import pytest
 
-from nav_bench.interface import Observation
+from nav_bench.interface import GridState, StuckReason
+from nav_bench.mapping.grid import GridFrame
 from nav_bench.planners.vfh_plus import (
-    CertaintyGrid,
     VFHPlus,
+    active_cells,
     binary_histogram,
     candidate_directions,
+    certainty_from_occupancy,
     choose_direction,
     masked_histogram,
     polar_histogram,
@@ -81,21 +83,42 @@ def test_valley_nearest_the_goal_direction_wins() -> None:
     assert candidate_directions(np.zeros(N, dtype=bool), 7.0, 16) == [7.0]
 
 
-def test_certainty_grid_himm_update() -> None:
+def test_certainty_reads_only_evidence_of_occupancy() -> None:
+    values = np.array([[0, 50, 75, 100]], dtype=np.uint8)
+    np.testing.assert_allclose(certainty_from_occupancy(values, 15.0), [[0.0, 0.0, 7.5, 15.0]])
+
+
+def test_histogram_from_a_hand_built_shared_grid() -> None:
+    frame = GridFrame.from_bounds((0.0, 0.0, 4.0, 4.0), 0.1)
+    values = np.full(frame.shape, 50, dtype=np.uint8)  # all unknown: certainty 0
+    values[:, :20] = 0  # free
+    values[20, 30] = 100  # cell centre (3.05, 2.05): 1 m along +x from the robot, c = 15
+    values[25, 20] = 60  # cell centre (2.05, 2.55): 0.5 m to the left, c = 3
+    values[20, 39] = 100  # (3.95, 2.05): outside the 1.6 m window
+    xy = np.array([2.05, 2.05])
+    cells, cert = active_cells(values, frame, xy, 1.6, 15.0)
+    np.testing.assert_allclose(cells, [[3.05, 2.05], [2.05, 2.55]])
+    np.testing.assert_allclose(cert, [15.0, 3.0])
+    hist = polar_histogram(cells, cert, xy, N, r_rs=0.3, d_max=1.6, b=4.0)
+    expected = np.zeros(N)  # as in the two-cell case by hand above
+    expected[[69, 70, 71, 0, 1, 2, 3]] = 225.0 * (1.0 + 4.0 * (1.6 ** 2 - 1.0))
+    expected[11:26] = 9.0 * (1.0 + 4.0 * (1.6 ** 2 - 0.5 ** 2))
+    np.testing.assert_allclose(hist, expected)
+
+
+def test_debug_state_is_the_shared_grid_and_no_valley_means_no_path() -> None:
+    world, _start, goal = wall_world()
+    planner = VFHPlus()
     robot = default_robot()
-    grid = CertaintyGrid((0.0, 0.0, 6.0, 4.0), 0.1, increment=3, c_max=15)
-    ranges = np.full(6, robot.sonar.max_range)
-    ranges[3] = 1.0  # the +15 deg sonar: an echo 1 m from its mount
-    obs = Observation(t=0.0, pose=np.array([1.0, 1.0, -math.radians(15)]), goal=np.array([5.0, 1.0]),
-                      ranges=ranges, robot=robot, bounds=(0.0, 0.0, 6.0, 4.0), dt=0.1)
-    for _ in range(6):
-        grid.update(obs)
-    # the +15 deg sonar looks along +x from (1.2, 1.0): the echo cell holds (1.2 + 1.0, 1.0)
-    assert grid.values[10, 22] == 15  # 6 x 3 = 18, clamped at c_max
-    assert grid.values.sum() == 15  # cells crossed before it were decremented (stay at 0)
-    ranges[3] = robot.sonar.max_range  # the echo is gone: the axis now passes through the cell
-    grid.update(obs)
-    assert grid.values[10, 22] == 14
+    obs = observe(world, np.array([3.0, 3.0, 0.0]), np.array(goal), robot, 0.0, 0.1)
+    planner.reset(obs, np.random.default_rng(0))
+    planner.act(obs)
+    grids = GridState.from_state(planner.debug_state())
+    assert grids is not None and grids.pmo.dtype == np.uint8 and grids.cell == pytest.approx(0.1)
+    assert grids.pmo.max() > 50 and grids.pmo.min() < 50  # the wall ahead and the free cones
+    assert planner.stuck_reason() is None
+    planner.blocked = True  # what act() sets when every sector is blocked
+    assert planner.stuck_reason() is StuckReason.NO_PATH
 
 
 def test_first_observation_of_a_wall_peaks_straight_ahead() -> None:
@@ -123,3 +146,23 @@ def test_trapped_by_the_u_like_other_local_methods() -> None:
     result = run(VFHPlus(), world, start, goal, time_s=60.0)
     assert not result.reached and result.collisions == 0
     assert result.poses[-1, 0] < 5.0  # never got past the bottom of the U
+
+
+@pytest.mark.slow
+def test_passes_a_one_metre_door_in_the_simulator() -> None:
+    """PyBullet: a wall across a 10 x 6 m room with a 1 m door off the straight line."""
+    from nav_bench.episode import EpisodeSettings
+    from nav_bench.episode.loop import run_episode
+    from nav_bench.specs import PlannerSetSpec
+    from nav_bench.world.load import world_from_data
+
+    world = world_from_data({
+        "name": "door_1m", "size": [10.0, 6.0], "start": [2.0, 2.5], "goal": [8.0, 2.5],
+        "obstacles": [{"wall": {"from": [5.0, 0.0], "to": [5.0, 3.5], "thickness": 0.15}},
+                      {"wall": {"from": [5.0, 4.5], "to": [5.0, 6.0], "thickness": 0.15}}]})
+    result = run_episode(world, PlannerSetSpec(planner="vfh_plus"), seed=0,
+                         settings=EpisodeSettings(time_s=120.0))
+    assert result.row.outcome == "reached", result.row
+    xy = result.trace.true_pose[:, :2]
+    crossing = xy[np.argmax(xy[:, 0] > 5.0)]
+    assert 3.5 < crossing[1] < 4.5  # through the door
