@@ -302,11 +302,14 @@ class DWAGlobal(DStarLite, DWA):
         *GRID_PARAMS,
         _DSTAR["inflation_margin"],
         _DSTAR["inflated_cost"],
+        _DSTAR["clearance_cost"],
+        _DSTAR["expansions_per_cycle"],
         Param("lookahead", 1.0, "m", "distance along the global path of DWA's local goal", minimum=0.05),
     )
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
-        DStarLite.reset(self, obs, rng)  # the grid, the search and the first path
+        DWA.reset(self, obs, rng)
+        self.reset_path(obs)  # D* Lite's grid, costs, search and first path
         self.memory = EchoMemory(self.settings.memory_s)
         self.last = Command(0.0, 0.0)
         self.local_goal = np.asarray(obs.goal, dtype=float).copy()

@@ -11,7 +11,16 @@ import math
 import numpy as np
 import pytest
 
-from nav_bench.planners.dstar_lite import DStarLite, DStarLiteSearch, astar, cell_costs, disk
+from nav_bench.planners.dstar_lite import (
+    DStarLite,
+    DStarLiteSearch,
+    PathRepair,
+    astar,
+    cell_costs,
+    clearance_costs,
+    disk,
+    obstacle_distance,
+)
 from nav_bench.testing.harness import BoxWorld, run, wall_world
 
 INF = math.inf
@@ -127,14 +136,18 @@ def test_inflation_costs_cells_within_radius_plus_margin() -> None:
     assert gap > 3.0
 
 
-def test_planner_inflation_in_cells_follows_the_robot_radius() -> None:
+def test_planner_costs_match_a_distance_transform_of_the_whole_map() -> None:
+    # the planner recomputes distances and costs only in windows around flipped cells
     world, start, goal = wall_world()
-    result = run(DStarLite(inflation_margin=0.1, cell=0.1), world, start, goal, time_s=1.0)
+    result = run(DStarLite(inflation_margin=0.3, cell=0.1), world, start, goal, time_s=3.0)
     planner = result.planner
-    assert planner.inflate_cells == pytest.approx((0.2 + 0.1) / 0.1)
-    occ, cost = planner.occupied, planner.cost
-    assert occ.any()  # the wall is in the map after a second of sonar
-    np.testing.assert_array_equal(cost, cell_costs(occ, planner.inflate_cells, planner.p["inflated_cost"]))
+    assert planner.inscribed == pytest.approx(0.2 / 0.1)  # the harness robot: radius 0.2 m
+    occ = planner.occupied
+    assert occ.any()  # the wall is in the map after a few seconds of sonar
+    dist = obstacle_distance(occ, planner.cap)
+    np.testing.assert_allclose(planner.dist, dist)
+    expected = clearance_costs(dist, 2.0, 3.0, 1000.0, 5.0)
+    np.testing.assert_array_equal(planner.cost, expected)
 
 
 @pytest.mark.parametrize("seed", [0, 1])
