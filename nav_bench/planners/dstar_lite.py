@@ -517,8 +517,8 @@ class DStarLite(Planner):
         Param("rotate_deg", 360.0, "deg", "how far the recovery turns in place to re-sense", minimum=0.0),
         # sonar arcs can close a real gap for good; forgetting the map (freespace assumption)
         # lets the robot look again, a bounded number of times so an unreachable goal still ends
-        Param("map_clears", 2, "-", "times per episode the map is cleared when a recovery ends "
-              "without a path", minimum=0),
+        Param("no_path_recoveries", 3, "-", "recoveries per episode when there is no path: rotate to "
+              "re-sense, then clear the map if there is still none", minimum=0),
     )
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
@@ -535,7 +535,7 @@ class DStarLite(Planner):
         self.recovery = Recovery(rs)
         self.blocked = False  # the follower found no safe motion this cycle
         self.last_reason: StuckReason | None = None
-        self.clears_left = p.map_clears
+        self.no_path_left = p.no_path_recoveries
 
     def reset_path(self, obs: Observation) -> None:
         """The grid, the obstacle distances and costs, and the first D* Lite plan (what
@@ -662,15 +662,19 @@ class DStarLite(Planner):
         self.watch.update(obs)
         p = self.settings
         if self.recovery.active:
+            phase = self.recovery.phase
             cmd = self.recovery.step(obs)
             if cmd is not None:
+                if self.recovery.phase is not phase:
+                    self.emit("recovery", obs.t, phase=str(self.recovery.phase), count=self.recovery.count)
                 return cmd
             self._replan(obs)
             has_path = len(self.path_xy) > 0
         elif p.recovery_after_s > 0 and (
                 (has_path and self.watch.stalled_for(obs.t) >= p.recovery_after_s)
-                or (self.unreachable and self.clears_left > 0)):
+                or (self.unreachable and self.no_path_left > 0)):
             if self.unreachable:
+                self.no_path_left -= 1
                 self.last_reason = StuckReason.NO_PATH
             else:
                 self.last_reason = self.watch.reason() or (StuckReason.STOPPED if self.blocked else None)
@@ -692,8 +696,7 @@ class DStarLite(Planner):
         self.repair.restart(self.cost, start)
         self.repair.search.compute()  # a recovery has stopped the robot: no budget for this one
         self.repair.cycle(start)
-        if not self.repair.cells and self.clears_left > 0:
-            self.clears_left -= 1
+        if not self.repair.cells and self.last_reason is StuckReason.NO_PATH:
             self.emit("recovery", obs.t, phase=str(RecoveryPhase.CLEAR_MAP), count=self.recovery.count)
             self._clear_map(start)
         self._refresh_xy()
