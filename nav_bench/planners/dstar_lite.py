@@ -288,28 +288,53 @@ class DStarLiteSearch:
         self.start = new
 
     def set_costs(self, rows: Iterable[int], cols: Iterable[int], values: Iterable[float]) -> int:
-        """Change cell costs; updates every vertex with a changed outgoing edge. Returns the
-        number of cells that really changed."""
-        graph, cost, inner = self.graph, self.graph.cost, self.graph.inner
-        touched: set[int] = set()
+        """Change cell costs and update the vertices whose outgoing edges changed. Returns the
+        number of cells that really changed.
+
+        The paper's optimised update (Fig. 4): an edge into ``v`` that got cheaper lowers the
+        predecessor's ``rhs`` by one comparison; one that got dearer recomputes it only if the
+        predecessor's ``rhs`` went through ``v``. A cell that becomes or stops being lethal also
+        changes the diagonal edges cutting past it: its whole 3 x 3 block is recomputed."""
+        graph, cost, inner, g, rhs = self.graph, self.graph.cost, self.graph.inner, self.g, self.rhs
+        moves, goal, w = graph.moves, self.goal, graph.width
+        full: set[int] = set()  # rhs recomputed from all successors
+        lowered: set[int] = set()  # rhs lowered in place
         changed = 0
-        w = graph.width
         for r, c, val in zip(rows, cols, values, strict=True):
-            idx = (int(r) + 1) * w + int(c) + 1
-            val = float(val)
-            if cost[idx] == val:
+            v = (int(r) + 1) * w + int(c) + 1
+            val, old = float(val), cost[v]
+            if old == val:
                 continue
-            cost[idx] = val
+            cost[v] = val
             changed += 1
-            touched.update((idx, idx + 1, idx - 1, idx + w, idx - w,
-                            idx + w + 1, idx + w - 1, idx - w + 1, idx - w - 1))
+            if old == INF or val == INF:
+                full.update((v, v + 1, v - 1, v + w, v - w, v + w + 1, v + w - 1, v - w + 1, v - w - 1))
+                continue
+            gv = g[v]
+            if gv == INF:
+                continue  # no rhs goes through v, and a cheaper v cannot lower one yet
+            for off, step, cut in moves:
+                s = v - off  # the edge s -> v
+                if not inner[s] or s == goal:
+                    continue
+                if cut is not None and (cost[s + cut[0]] == INF or cost[s + cut[1]] == INF):
+                    continue
+                if val < old:
+                    cand = step * val + gv
+                    if cand < rhs[s]:
+                        rhs[s] = cand
+                        lowered.add(s)
+                elif rhs[s] >= step * old + gv - 1e-9:  # s may have taken its rhs through v
+                    full.add(s)
         if not changed:
             return 0
         self.km += graph.octile(self.last, self.start)
         self.last = self.start
-        for u in sorted(touched):  # sorted: the same queue order on every run
-            if inner[u] and u != self.goal:
-                self.rhs[u] = self._recompute_rhs(u)
+        for u in sorted(full):  # sorted: the same queue order on every run
+            if inner[u] and u != goal:
+                rhs[u] = self._recompute_rhs(u)
+        for u in sorted(full | lowered):
+            if inner[u] and u != goal:
                 self._update_vertex(u)
         return changed
 
@@ -406,7 +431,8 @@ class PathRepair:
         self._offset = 0
         self.version = 0  # counts path extractions
         self.stale = True  # the path no longer reflects the costs (a repair is under way)
-        self._costs_changed = True  # since the last extraction (else rejoining the path is enough)
+        self._costs_changed = True  # on the path since the last extraction (else it may still do)
+        self._g_path: list[float] = []  # g of each path cell at extraction (the start's: its rhs)
         self.cycle(tuple(start))
 
     @property
@@ -452,7 +478,9 @@ class PathRepair:
         search.move_start(start)
         changed = search.set_costs(rows, cols, vals) if rows is not None and len(rows) else 0
         if changed:
-            self.stale = self._costs_changed = True
+            self.stale = True
+            if self._costs_changed or self._hits_path(rows, cols, vals):
+                self._costs_changed = True
         if moved:
             self._offset = self._where.get(start, -1)
             if self._offset < 0:
@@ -462,6 +490,11 @@ class PathRepair:
         if not (self.stale and search.settled):
             return changed, False
         old = self._path[max(self._offset, 0):]
+        if (not self._costs_changed and self._offset >= 0
+                and abs(search.path_cost - self._g_path[self._offset]) < 1e-9):
+            # no cost on the path changed and the cost from here did not: still optimal
+            self.stale = False
+            return changed, False
         if self._costs_changed:
             self._path = search.path()
         else:  # only the robot left its path: descend until it rejoins it
@@ -469,9 +502,23 @@ class PathRepair:
         self._costs_changed = False
         self.version += 1
         self._where = {c: i for i, c in enumerate(self._path)}
+        g, index = search.g, search.graph.index
+        self._g_path = [search.path_cost] + [g[index(c)] for c in self._path[1:]]
         self._offset = 0
         self.stale = False
         return changed, bool(changed) and bool(self._path) and _path_changed(old, self._path)
+
+    def _hits_path(self, rows: np.ndarray, cols: np.ndarray, vals: np.ndarray) -> bool:
+        """Did a cost on the path ahead change, or did a cell next to it become lethal (a
+        diagonal step may cut past it)?"""
+        where, start = self._where, max(self._offset, 0)
+        for r, c, val in zip(rows.tolist(), cols.tolist(), vals.tolist(), strict=True):
+            if where.get((r, c), -1) >= start:
+                return True
+            if val == INF and any(where.get((r + dr, c + dc), -1) >= start
+                                  for dr in (-1, 0, 1) for dc in (-1, 0, 1)):
+                return True
+        return False
 
     def restart(self, cost: np.ndarray, start: Sequence[int]) -> None:
         """Plan anew from scratch on ``cost`` (a forced re-plan)."""
