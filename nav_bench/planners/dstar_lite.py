@@ -175,6 +175,7 @@ class DStarLiteSearch:
         self.km = 0.0
         self.goal = self.graph.index(goal)
         self.start = self.graph.index(start)
+        self._start_rc = divmod(self.start, self.graph.width)
         self.last = self.start
         self.expansions = 0
         self.settled = False  # did the last compute() finish (not stopped by its budget)?
@@ -183,13 +184,19 @@ class DStarLiteSearch:
 
     # -- queue (lazy deletion) ---------------------------------------------------------------------
     def _calc_key(self, s: int) -> tuple[float, float]:
-        m = min(self.g[s], self.rhs[s])
+        g, rhs = self.g[s], self.rhs[s]
+        m = g if g < rhs else rhs
         if m == INF:
             return (INF, INF)
+        # the octile distance from the start, inlined: this runs for every queue push
+        br, bc = divmod(s, self.graph.width)
+        ar, ac = self._start_rc
+        dr = ar - br if ar > br else br - ar
+        dc = ac - bc if ac > bc else bc - ac
+        h = dr + dc + (SQRT2 - 2.0) * (dr if dr < dc else dc)
         # rounded: g + h + km summed in different orders must compare equal, or a tie that
         # k2 should break is decided by a 1e-15 difference in k1 (and the search stops early)
-        return (round(m + self.graph.octile(self.start, s) + self.km, KEY_DIGITS),
-                round(m, KEY_DIGITS))
+        return (round(m + h + self.km, KEY_DIGITS), round(m, KEY_DIGITS))
 
     def _push(self, s: int) -> None:
         k = self._calc_key(s)
@@ -224,19 +231,22 @@ class DStarLiteSearch:
 
     # -- the algorithm -----------------------------------------------------------------------------
     def compute(self, max_expansions: int | None = None) -> int:
-        """ComputeShortestPath; returns the number of expansions it made."""
+        """ComputeShortestPath; returns the number of expansions it made. With
+        ``max_expansions`` it stops after that many queue steps (expansions and re-keyings)
+        and :attr:`settled` stays False: call it again to continue."""
         g, rhs, key, graph = self.g, self.rhs, self.key, self.graph
         cost, inner, moves = graph.cost, graph.inner, graph.moves
         start, goal = self.start, self.goal
-        done = 0
+        done = steps = 0
         self.settled = False
         while True:
             top = self._top()
             if top is None or not ((top[0], top[1]) < self._calc_key(start) or rhs[start] > g[start]):
                 self.settled = True
                 break
-            if max_expansions is not None and done >= max_expansions:
+            if max_expansions is not None and steps >= max_expansions:
                 break
+            steps += 1  # re-keying a vertex counts toward the budget as well: it costs as much
             k_old = (top[0], top[1])
             u = top[2]
             k_new = self._calc_key(u)
@@ -286,6 +296,7 @@ class DStarLiteSearch:
             self.km += self.graph.octile(self.last, new)
             self.last = new
         self.start = new
+        self._start_rc = divmod(new, self.graph.width)
 
     def set_costs(self, rows: Iterable[int], cols: Iterable[int], values: Iterable[float]) -> int:
         """Change cell costs and update the vertices whose outgoing edges changed. Returns the
@@ -547,7 +558,7 @@ class DStarLite(Planner):
               "obstacle (inscribed)", minimum=1.0),
         Param("clearance_cost", 5.0, "-", "step-cost factor just beyond the robot radius, falling "
               "quadratically to 1 at radius + inflation_margin", minimum=1.0),
-        Param("expansions_per_cycle", 1000, "-", "D* Lite expansions per control cycle; an unfinished "
+        Param("expansions_per_cycle", 300, "-", "D* Lite expansions per control cycle; an unfinished "
               "repair continues next cycle (0: unlimited)", minimum=0),
         Param("lookahead", 0.5, "m", "pure-pursuit lookahead distance along the path", minimum=0.05),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the path is farther off the heading",
