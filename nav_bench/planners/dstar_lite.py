@@ -55,6 +55,7 @@ from nav_bench.planners.recovery import ProgressWatch, Recovery, RecoveryPhase, 
 
 INF = math.inf
 SQRT2 = math.sqrt(2.0)
+PATH_PREFIX = 160  # cells of the path extracted at a time (16..23 m; the follower looks 0.5 m ahead)
 KEY_DIGITS = 9  # keys are rounded so that sums equal up to float rounding tie exactly
 # (drow, dcol, step length in cells); fixed order makes tie-breaking deterministic
 MOVES: tuple[tuple[int, int, float], ...] = (
@@ -429,14 +430,16 @@ class PathRepair:
     expansions (0: unlimited); an interrupted search continues next cycle. While it is
     unfinished, :attr:`cells` is the part of the last complete path that is still ahead of
     the robot and not lethal (at most ``keep`` cells), or [] (stop). The path is extracted
-    only when the search has settled after a cost change (or the robot left the path); a
-    robot moving along its path only advances an offset into it (no O(path) work).
+    only when the search has settled after a cost change on it (or the robot left the path);
+    a robot moving along its path only advances an offset into it (no O(path) work). With
+    ``prefix`` > 0 only that many cells are extracted (a follower needs the near part), and
+    the next piece when the robot has used half of them.
     """
 
     def __init__(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int],
-                 budget: int = 0, keep: int = 30, lethal: float = INF) -> None:
+                 budget: int = 0, keep: int = 30, lethal: float = INF, prefix: int = 0) -> None:
         self.search = DStarLiteSearch(cost, start, goal)
-        self.budget, self.keep, self.lethal = budget, keep, lethal
+        self.budget, self.keep, self.lethal, self.prefix = budget, keep, lethal, prefix
         self._path: list[tuple[int, int]] = []
         self._where: dict[tuple[int, int], int] = {}
         self._offset = 0
@@ -496,6 +499,9 @@ class PathRepair:
             self._offset = self._where.get(start, -1)
             if self._offset < 0:
                 self.stale = True  # left the path: its suffix is no answer
+            elif (self.prefix and len(self._path) - self._offset < self.prefix // 2
+                  and self._path[-1] != search.graph.cell(search.goal)):
+                self.stale = self._costs_changed = True  # extract the next piece
         if self.stale or not search.settled:
             search.compute(self.budget or None)
         if not (self.stale and search.settled):
@@ -507,9 +513,9 @@ class PathRepair:
             self.stale = False
             return changed, False
         if self._costs_changed:
-            self._path = search.path()
+            self._path = search.path(max_len=self.prefix or None)
         else:  # only the robot left its path: descend until it rejoins it
-            self._path = search.path(join=self._where, tail=self._path)
+            self._path = search.path(max_len=self.prefix or None, join=self._where, tail=self._path)
         self._costs_changed = False
         self.version += 1
         self._where = {c: i for i, c in enumerate(self._path)}
@@ -558,7 +564,7 @@ class DStarLite(Planner):
               "obstacle (inscribed)", minimum=1.0),
         Param("clearance_cost", 5.0, "-", "step-cost factor just beyond the robot radius, falling "
               "quadratically to 1 at radius + inflation_margin", minimum=1.0),
-        Param("expansions_per_cycle", 300, "-", "D* Lite expansions per control cycle; an unfinished "
+        Param("expansions_per_cycle", 250, "-", "D* Lite expansions per control cycle; an unfinished "
               "repair continues next cycle (0: unlimited)", minimum=0),
         Param("lookahead", 0.5, "m", "pure-pursuit lookahead distance along the path", minimum=0.05),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the path is farther off the heading",
@@ -614,7 +620,7 @@ class DStarLite(Planner):
         self.goal_xy = np.asarray(obs.goal, dtype=float)
         start = self._clamp(self.grid.world_to_cell(obs.pose[:2]))
         self.repair = PathRepair(self.cost, start, self.goal_rc, budget=p.expansions_per_cycle,
-                                 lethal=p.inflated_cost)
+                                 lethal=p.inflated_cost, prefix=PATH_PREFIX)
         self._path_id = -1
         self._xy_full = np.zeros((0, 2))
         self._refresh_xy()
@@ -729,7 +735,7 @@ class DStarLite(Planner):
             self._replan(obs)
             has_path = len(self.path_xy) > 0
         elif p.recovery_after_s > 0 and (
-                (has_path and self.watch.stalled_for(obs.t) >= p.recovery_after_s)
+                (not self.unreachable and self.watch.stalled_for(obs.t) >= p.recovery_after_s)
                 or (self.unreachable and self.no_path_left > 0)):
             if self.unreachable:
                 self.no_path_left -= 1
@@ -824,5 +830,7 @@ def _path_changed(old: list[tuple[int, int]], new: list[tuple[int, int]]) -> boo
     where = {c: i for i, c in enumerate(old)}
     for j, cell in enumerate(new):
         if cell in where:
-            return new[j:] != old[where[cell]:]
+            i = where[cell]
+            n = min(len(new) - j, len(old) - i)  # both may be prefixes of their paths
+            return new[j:j + n] != old[i:i + n]
     return True
