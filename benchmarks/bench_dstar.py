@@ -75,12 +75,12 @@ def arc_cells(pos: tuple[int, int], heading: float, n: int, rng: np.random.Gener
     return rc[(rc >= 0).all(axis=1) & (rc < n).all(axis=1)]
 
 
-def run(n: int, updates: int, seed: int) -> dict[str, float]:
+def run(n: int, updates: int, seed: int, search_cls: type = DStarLiteSearch) -> dict[str, float]:
     rng = np.random.default_rng(seed)
     occ = cluttered(n, rng)
     start, goal = (5, 5), (n - 6, n - 6)
     cost = cell_costs(occ, INFLATE, INFLATED_COST)
-    search = DStarLiteSearch(cost, start, goal)
+    search = search_cls(cost, start, goal)
     t0 = time.process_time()
     search.compute()
     initial = time.process_time() - t0
@@ -92,7 +92,7 @@ def run(n: int, updates: int, seed: int) -> dict[str, float]:
         if len(path) < 30:  # near the goal (or cut off): a new episode from a random free cell
             free = np.argwhere(cost == 1.0)
             pos = tuple(int(v) for v in free[rng.integers(len(free))])
-            search = DStarLiteSearch(cost, pos, goal)  # not timed: the episode's initial plan
+            search = search_cls(cost, pos, goal)  # not timed: the episode's initial plan
             search.compute()
             path = search.path()
             if len(path) < 30:
@@ -159,12 +159,13 @@ def true_world(kind: str, n: int, rng: np.random.Generator) -> tuple[np.ndarray,
     return occ, (mid, x0 + 2), (mid, x1 - 3), 40  # the block shows up after 2 m (40 cycles)
 
 
-def load_planner_class(path: str) -> type:
+def load_module(path: str) -> Any:
+    """The D* Lite module at ``path`` (another tree's), imported under another name."""
     spec = importlib.util.spec_from_file_location("dstar_before", path)
     module = importlib.util.module_from_spec(spec)
     assert spec.loader is not None
     spec.loader.exec_module(module)
-    return module.DStarLite
+    return module
 
 
 def cycles(cls: type, kind: str, n: int, count: int, seed: int) -> dict[str, float]:
@@ -186,7 +187,7 @@ def cycles(cls: type, kind: str, n: int, count: int, seed: int) -> dict[str, flo
     grid = SensedGrid(bounds, cell=cell)
     grid.sensed = np.full((n, n), 50, dtype=np.uint8)
     planner.grid = grid
-    yaw, times = 0.0, []
+    yaw, times, waiting = 0.0, [], 0
     for k in range(count):
         if k == block_at:  # a wall across the corridor, 2 m ahead of the robot
             c = int(xy[0] / cell) + 20
@@ -201,6 +202,8 @@ def cycles(cls: type, kind: str, n: int, count: int, seed: int) -> dict[str, flo
         t0 = time.process_time()
         planner.update_path(observe(0.1 * k, yaw))
         times.append(time.process_time() - t0)
+        repair = getattr(planner, "repair", None)
+        waiting += repair is not None and not repair.complete
         path = planner.path_xy
         if len(path) > 1 and k % 2 == 0:  # 0.1 m every other 0.1 s cycle
             ahead = path[min(5, len(path) - 1)]
@@ -210,14 +213,14 @@ def cycles(cls: type, kind: str, n: int, count: int, seed: int) -> dict[str, flo
             break
     ms = np.array(times) * 1e3
     return {"med": float(np.median(ms)), "p99": float(np.percentile(ms, 99)), "max": float(ms.max()),
-            "cycles": float(len(ms)), "block": float(ms[block_at:block_at + 30].max()) if block_at >= 0 else math.nan}
+            "cycles": float(len(ms)), "waiting": float(waiting), "block": float(ms[block_at:block_at + 30].max()) if block_at >= 0 else math.nan}
 
 
 def compare_cycles(before: str, count: int, seed: int) -> None:
-    old = load_planner_class(before)
+    old = load_module(before).DStarLite
     print(f"\nper control cycle (update_path), ms; before = {before}, after = this tree")
     head = (f"{'scenario':>16} {'grid':>8} {'cycles':>6} | {'before med':>10} {'p99':>7} {'max':>7} | "
-            f"{'after med':>9} {'p99':>7} {'max':>7} | {'med x':>6} {'p99 x':>6}")
+            f"{'after med':>9} {'p99':>7} {'max':>7} {'slic':>4} | {'med x':>6} {'p99 x':>6}")
     print(head)
     print("-" * len(head))
     for n in (100, 400):
@@ -225,9 +228,11 @@ def compare_cycles(before: str, count: int, seed: int) -> None:
             b = cycles(old, kind, n, count, seed)
             a = cycles(DStarLite, kind, n, count, seed)
             print(f"{kind:>16} {n:>3}x{n:<4} {a['cycles']:6.0f} | {b['med']:10.3f} {b['p99']:7.2f} {b['max']:7.1f} | "
-                  f"{a['med']:9.3f} {a['p99']:7.2f} {a['max']:7.1f} | {b['med'] / a['med']:6.1f} "
+                  f"{a['med']:9.3f} {a['p99']:7.2f} {a['max']:7.1f} {a['waiting']:4.0f} | {b['med'] / a['med']:6.1f} "
                   f"{b['p99'] / a['p99']:6.1f}")
-    print("med x / p99 x: before / after (higher is faster). Target (after, 400 x 400): med < 1, p99 < 10.")
+    print("CPU time (process_time) per cycle. slic: cycles that ended with the repair unfinished (the\n"
+          "robot kept the free part of its old path or stopped). med x / p99 x: before / after (higher is\n"
+          "faster). Target (after, 400 x 400): med < 1, p99 < 10.")
 
 
 def main() -> None:
@@ -236,20 +241,24 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--cycles", type=int, default=400, help="control cycles per scenario (part 2)")
     ap.add_argument("--before", default=str(Path("/work/main/nav_bench/planners/dstar_lite.py")),
-                    help="D* Lite module to compare with (part 2); '' skips part 2")
+                    help="D* Lite module to compare with; '' skips the comparison")
     args = ap.parse_args()
     print(f"load average {os.getloadavg()[0]:.2f}; {args.updates} updates per grid; times in ms")
-    head = (f"{'grid':>9} {'initial':>8} {'cells chg':>9} {'expanded':>8} {'D* med':>7} {'D* p99':>7} "
-            f"{'path':>6} {'A* med':>7} {'A* p99':>7} {'A*/D*':>6}")
+    old = load_module(args.before).DStarLiteSearch if args.before else None
+    head = (f"{'grid':>9} {'tree':>6} {'initial':>8} {'cells chg':>9} {'expanded':>8} {'D* med':>7} "
+            f"{'D* p99':>7} {'path':>6} {'A* med':>7} {'A* p99':>7} {'A*/D*':>6}")
     print(head)
     print("-" * len(head))
     for n in (100, 400):
-        r = run(n, args.updates, args.seed)
-        print(f"{n:>4}x{n:<4} {r['initial']:8.1f} {r['changed']:9.0f} {r['expanded']:8.0f} "
-              f"{r['repair_med']:7.2f} {r['repair_p99']:7.2f} {r['extract_med']:6.2f} "
-              f"{r['astar_med']:7.2f} {r['astar_p99']:7.2f} {r['astar_med'] / r['repair_med']:6.1f}")
-    print("D* med/p99: set_costs + compute (the repair); path: extracting the cell path afterwards;"
-          " A*: planning from scratch on the same costs.")
+        for label, cls in (("before", old), ("after", DStarLiteSearch)):
+            if cls is None:
+                continue
+            r = run(n, args.updates, args.seed, cls)
+            print(f"{n:>4}x{n:<4} {label:>6} {r['initial']:8.1f} {r['changed']:9.0f} {r['expanded']:8.0f} "
+                  f"{r['repair_med']:7.2f} {r['repair_p99']:7.2f} {r['extract_med']:6.2f} "
+                  f"{r['astar_med']:7.2f} {r['astar_p99']:7.2f} {r['astar_med'] / r['repair_med']:6.1f}")
+    print("D* med/p99: set_costs + compute (the repair, unbudgeted, binary inflation); path: extracting the"
+          " cell path afterwards; A*: planning from scratch on the same costs. CPU time.")
     if args.before:
         compare_cycles(args.before, args.cycles, args.seed)
 
