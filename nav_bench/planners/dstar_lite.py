@@ -614,7 +614,6 @@ class DStarLite(Planner):
         # the sonars change cells only this far from the robot
         self.window = math.ceil((obs.robot.sonar.max_range + 2 * p.cell) / p.cell) + 1
         self.occupied = np.zeros(self.shape, dtype=bool)
-        self.closed = np.zeros(self.shape, dtype=bool)  # cells a recovery found impassable
         self.dist = np.full(self.shape, self.cap)  # cells to the nearest occupied cell centre
         self.cost = np.ones(self.shape)
         self.goal_rc = self._clamp(self.grid.world_to_cell(obs.goal))
@@ -694,7 +693,6 @@ class DStarLite(Planner):
         self.dist[r0:r1, c0:c1] = dist
         p = self.settings
         new = clearance_costs(dist, self.inscribed, self.margin_cells, p.inflated_cost, p.clearance_cost)
-        new[self.closed[r0:r1, c0:c1]] = INF
         old = self.cost[r0:r1, c0:c1]
         dr, dc = np.nonzero(new != old)
         vals = new[dr, dc]
@@ -744,7 +742,6 @@ class DStarLite(Planner):
                 self.last_reason = StuckReason.NO_PATH
             else:
                 self.last_reason = self.watch.reason() or (StuckReason.STOPPED if self.blocked else None)
-                self._close_squeeze(obs)
             self.recovery.start(obs, backup=not self.unreachable)
             self.emit("recovery", obs.t, phase=str(self.recovery.phase), count=self.recovery.count,
                       reason=str(self.last_reason) if self.last_reason else "no_progress")
@@ -772,25 +769,9 @@ class DStarLite(Planner):
         self.emit("recovery", obs.t, phase=str(RecoveryPhase.REPLAN), count=self.recovery.count,
                   path=bool(len(self.path_xy)))
 
-    def _close_squeeze(self, obs: Observation) -> None:
-        """The robot made no progress: the path cells within 1 m ahead where the footprint
-        would overlap an obstacle on the map (inscribed cost) become lethal, so the re-plan
-        looks for another way (a squeeze the map allows only by a cell is not one to retry)."""
-        cells = self.cells[:int(1.0 / self.settings.cell) + 1]
-        p = self.settings
-        squeeze = [rc for rc in cells[1:] if self.cost[rc] >= p.inflated_cost and rc != self.goal_rc]
-        if not squeeze:
-            return
-        rows, cols = (np.array(v) for v in zip(*squeeze, strict=True))
-        self.closed[rows, cols] = True
-        self.cost[rows, cols] = INF
-        self.repair.search.set_costs(rows, cols, np.full(len(rows), INF))
-        self.emit("recovery", obs.t, phase="close_squeeze", cells=len(rows))
-
     def _clear_map(self, start: tuple[int, int]) -> None:
         """Forget the map (every cell unknown, so free) and plan anew."""
         self.grid.reset()
-        self.closed[:] = False
         self.occupied[:] = False
         self.dist[:] = self.cap
         self.cost[:] = 1.0
