@@ -443,6 +443,7 @@ class PathRepair:
         self._path: list[tuple[int, int]] = []
         self._where: dict[tuple[int, int], int] = {}
         self._offset = 0
+        self._near = -1  # a path index beside the robot while it is off its path
         self.version = 0  # counts path extractions
         self.stale = True  # the path no longer reflects the costs (a repair is under way)
         self._costs_changed = True  # on the path since the last extraction (else it may still do)
@@ -472,11 +473,23 @@ class PathRepair:
             return self._path[self._offset:]
         return self._safe_prefix()
 
+    def _nearby(self, rc: tuple[int, int], last: int) -> int:
+        """Index of a cell of the path within 2 cells of ``rc`` near the last offset, or -1
+        (pure pursuit cuts corners: the robot is often beside its path, not on it)."""
+        if last < 0:
+            return -1
+        for i in range(max(last - 5, 0), min(last + 40, len(self._path))):
+            r, c = self._path[i]
+            if abs(r - rc[0]) <= 2 and abs(c - rc[1]) <= 2:
+                return i
+        return -1
+
     def _safe_prefix(self) -> list[tuple[int, int]]:
-        if not self._path or self._offset < 0:
+        start = self._offset if self._offset >= 0 else self._near
+        if not self._path or start < 0:
             return []
         graph = self.search.graph
-        out = self._path[self._offset:self._offset + self.keep]
+        out = self._path[start:start + self.keep]
         for i, rc in enumerate(out[1:], start=1):
             if graph.cost[graph.index(rc)] >= self.lethal:
                 return out[:i] if i > 1 else []
@@ -496,9 +509,11 @@ class PathRepair:
             if self._costs_changed or self._hits_path(rows, cols, vals):
                 self._costs_changed = True
         if moved:
+            last = self._offset if self._offset >= 0 else self._near
             self._offset = self._where.get(start, -1)
             if self._offset < 0:
                 self.stale = True  # left the path: its suffix is no answer
+                self._near = self._nearby(start, last)
             elif (self.prefix and len(self._path) - self._offset < self.prefix // 2
                   and self._path[-1] != search.graph.cell(search.goal)):
                 self.stale = self._costs_changed = True  # extract the next piece
