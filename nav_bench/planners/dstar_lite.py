@@ -6,12 +6,15 @@ the basic version's full ``rhs`` recomputation for vertices whose edges changed)
 
 The map: an :class:`~nav_bench.mapping.occupancy.OccupancyGrid` updated from the sonars
 every cycle. Under the *freespace assumption* unknown cells are free; a cell whose value is
-above ``occupied_above`` is an obstacle. Cell costs (:func:`cell_costs`): obstacle cells
-are lethal (``inf``); cells within ``radius + inflation_margin`` of an obstacle cost
-``inflated_cost`` per step instead of 1, so paths keep their distance when they can, yet a
-robot whose own cell was inflated (sonar arcs make obstacles look wider than they are)
-can still drive out. The goal's cell is never lethal (an echo arc over the goal would
-otherwise make it unreachable for good).
+above ``occupied_above`` is an obstacle. Cell costs (:func:`clearance_costs`, ROS costmap
+style): obstacle cells are lethal (``inf``); cells within the robot radius of one (inscribed:
+the body would overlap it) cost ``inflated_cost`` per step, finite so that a robot whose
+surroundings a sonar arc painted over can still drive out; beyond that the cost falls
+quadratically from ``clearance_cost`` to 1 at ``radius + inflation_margin``, so paths run down
+the middle of 1 m corridors and doors. Distances come from a Euclidean distance transform
+recomputed only in a window around the cells whose occupancy flipped (and only the window the
+sonars can reach is compared each cycle). The goal's cell is never lethal (an echo arc over
+the goal would otherwise make it unreachable for good).
 
 The graph: 8-connected cells; moving from ``u`` to a neighbour ``v`` costs the step length
 (1 or sqrt 2 cells) times the cost of ``v``; a diagonal step is forbidden when either cell it
@@ -27,9 +30,20 @@ vertex's current key). Keys are rounded to 1e-9 cells: ``g + h + km`` summed alo
 different routes must tie exactly, or a 1e-15 difference in ``k1`` overrides the ``k2``
 tie-break and the search stops one expansion early with a stale ``g``.
 
-The follower: pure pursuit on the cell path (``lookahead``), turning on the spot when the
-lookahead point is more than ``turn_in_place_deg`` off the heading; in the goal's cell or
-next to it, straight for the goal. No path -> stop and emit ``unreachable`` (once per loss).
+Time slicing (:class:`PathRepair`): at most ``expansions_per_cycle`` queue steps per control
+cycle; an unfinished repair continues next cycle while the robot follows the part of its old
+path that is still ahead and not inscribed/lethal (or stops). The path (a 160-cell prefix) is
+extracted only when the repair settled after a change on it; moving along it advances an offset.
+
+The follower: pure pursuit on the path (``lookahead``), turning on the spot when the lookahead
+point is more than ``turn_in_place_deg`` off the heading; in the goal's cell or next to it,
+straight for the goal. Every command is checked by :func:`~nav_bench.planners.footprint.guard`
+(the footprint's rollout over ``safety_horizon_s`` against the obstacle distances and the sonar
+echoes, slowing within ``slow_distance``). No progress for ``recovery_after_s`` (odometry and
+sonar evidence, :mod:`~nav_bench.planners.recovery`) starts the recovery: back up, rotate in
+place, re-plan from scratch (``recovery`` events with their ``phase``); no path starts a rotate
+and, if there is still none, clears the map (at most ``no_path_recoveries`` times); after that:
+stop and emit ``unreachable`` (once per loss). :meth:`DStarLite.stuck_reason` says why.
 
 A repair after which the path ahead differs from the previous one emits a ``replan`` event.
 :func:`astar` plans from scratch on the same graph (tests and ``benchmarks/bench_dstar.py``).
