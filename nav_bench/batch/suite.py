@@ -97,9 +97,11 @@ class Limits(Strict):
     time_s: PositiveFloat | None = None  # simulated s; null: scales with the world's size
     stuck_s: PositiveFloat | None = None  # s without progress that end an episode; null: never
     stuck_radius: PositiveFloat | None = None  # m
+    stuck_area_radius: PositiveFloat | None = None  # m, the oscillating robot's disc (3 x stuck_s)
     goal_tolerance: PositiveFloat | None = None  # m
     control_hz: PositiveFloat | None = None  # planner cycles per second
-    physics_hz: PositiveFloat | None = None  # physics steps per second
+    # physics steps per second (default 60: results/fidelity/README.md; 240 plays the reference)
+    physics_hz: PositiveFloat | None = None
     # wall-clock s per episode before it is killed; null: 900. At most a week: a bound a
     # timer can hold
     wall_s: Annotated[float, Field(gt=0.0, le=MAX_WALL_S)] | None = None

@@ -18,7 +18,7 @@ from nav_bench.episode.observers import GuiView, LiveFeed, Observer
 from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.episode.stepper import EpisodeResult, EpisodeStepper
 from nav_bench.errors import InputError, PlannerError
-from nav_bench.interface import Command, Observation, RobotInfo
+from nav_bench.interface import Command, Observation, Outcome, RobotInfo
 from nav_bench.planners.base import Planner
 from nav_bench.planners.registry import full_params, make_planner
 from nav_bench.sim.session import SimSession
@@ -93,7 +93,7 @@ def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,
     full_params(planner)  # bad parameters: InputError before anything is simulated
     observers: list[Observer] = [GuiView(settings.cycle_s)] if gui else []
     observers += [LiveFeed(live)] if live is not None else []
-    wall0 = time.perf_counter()
+    wall0, cpu0 = time.perf_counter(), time.process_time()
     host = (SimSession(gui=gui, physics_hz=settings.physics_hz) if session is None
             else contextlib.nullcontext(session))  # a session passed in stays open
     with host as session:
@@ -105,5 +105,10 @@ def run_episode(world: WorldSpec, planner: PlannerSetSpec, *, seed: int,
             state = agent.debug_state()
         except Exception:  # a broken debug_state must not lose the row
             state = {}
+        try:
+            reason = agent.stuck_reason() if stepper.outcome is Outcome.STUCK else None
+        except Exception:  # nor a broken stuck_reason
+            reason = None
         return stepper.finish(wall_s=time.perf_counter() - wall0, planner_state=state,
-                              replans=agent.replans)
+                              replans=agent.replans, stuck_reason=reason,
+                              cpu_s=time.process_time() - cpu0)

@@ -2,13 +2,17 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
+from nav_bench.interface import GridState
+from nav_bench.mapping.quality import MapQuality, map_quality, true_occupancy
 from nav_bench.specs import WorldSpec
 from nav_bench.world.geometry import footprint_clearance, mover_radius, static_geometry
-from nav_bench.world.optimal import optimal_path
+from nav_bench.world.optimal import OptimalPath, optimal_path
 
 
 def spl(success: bool, optimal_m: float | None, travelled_m: float) -> float:
@@ -38,14 +42,32 @@ def min_clearance(world: WorldSpec, xy: np.ndarray, robot_radius: float,
 
 
 @lru_cache(maxsize=64)
-def _optimal_cached(world_json: str, robot_radius: float) -> float | None:
+def _optimal_cached(world_json: str, robot_radius: float) -> OptimalPath:
     world = WorldSpec.model_validate_json(world_json)
-    return optimal_path(world, robot_radius).length_m
+    return optimal_path(world, robot_radius)
+
+
+def optimal_route(world: WorldSpec, robot_radius: float) -> OptimalPath:
+    """Shortest collision-free path (:func:`optimal_path`) for a disc robot on the true static map.
+
+    Memoised per process: a batch plays the same world many times, and the row asks for both
+    its length and (for the map quality) its cells.
+    """
+    return _optimal_cached(world.model_dump_json(by_alias=True), round(float(robot_radius), 6))
 
 
 def optimal_length(world: WorldSpec, robot_radius: float) -> float | None:
-    """Shortest collision-free path length (m) for a disc robot on the true static map.
+    """Shortest collision-free path length (m) for a disc robot on the true static map."""
+    return optimal_route(world, robot_radius).length_m
 
-    Memoised per process: a batch plays the same world many times.
-    """
-    return _optimal_cached(world.model_dump_json(by_alias=True), round(float(robot_radius), 6))
+
+def planner_map_quality(world: WorldSpec, planner_state: Mapping[str, Any] | None,
+                        robot_radius: float) -> MapQuality | None:
+    """The planner's final grid (its ``debug_state()``, :class:`GridState`) against the true
+    static map (:func:`nav_bench.mapping.quality.map_quality`); None when it keeps no grid."""
+    grids = GridState.from_state(planner_state)
+    if grids is None or np.asarray(grids.pmo).ndim != 2:
+        return None
+    truth = true_occupancy(static_geometry(world), grids)
+    route = optimal_route(world, robot_radius)
+    return map_quality(grids, truth, route.points if route.length_m is not None else None)

@@ -8,7 +8,9 @@ knows which protocol is playing. Suites choose one with ``protocol: NAME`` or
 
 * ``nav_bench`` (the default): success within ``limits.goal_tolerance`` (0.3 m) of the goal
   before the time limit (``limits.time_s``); a robot that stays within a small circle for
-  ``limits.stuck_s`` is ``stuck``; collisions are counted, not fatal. No extra score.
+  ``limits.stuck_s``, or whose positions over 3 x ``stuck_s`` fit in a disc of radius
+  ``limits.stuck_area_radius`` (0.6 m: an oscillating robot), is ``stuck``; collisions are
+  counted, not fatal. No extra score.
 * ``barn``: the BARN Challenge's rules (Perille et al. 2020; Xiao et al., "Autonomous Ground
   Navigation in Highly Constrained Spaces: Lessons learned from the BARN Challenge at ICRA
   2022"; its ``run.py``): success within 1 m of the goal before 100 s of simulated time; the
@@ -26,7 +28,14 @@ from typing import Any
 
 import numpy as np
 
-from nav_bench.episode.ending import Collided, Ending, GoalReached, Stuck, TimeLimit
+from nav_bench.episode.ending import (
+    DEFAULT_AREA_RADIUS,
+    Collided,
+    Ending,
+    GoalReached,
+    Stuck,
+    TimeLimit,
+)
 from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.errors import InputError
 from nav_bench.specs import WorldSpec
@@ -72,7 +81,9 @@ class Protocol:
         out += [GoalReached(np.asarray(world.goal, dtype=float), self.goal_radius(settings)),
                 TimeLimit(self.time_limit(settings, world))]
         if self.stuck_ends and settings.stuck_s is not None:
-            out.append(Stuck(settings.stuck_s, settings.stuck_radius, start_xy))
+            # read with a default: settings stored before the area rule have no such field
+            area = getattr(settings, "stuck_area_radius", DEFAULT_AREA_RADIUS)
+            out.append(Stuck(settings.stuck_s, settings.stuck_radius, start_xy, area_radius=area))
         return out
 
     def score(self, success: bool, optimal_m: float | None, time_s: float | None) -> dict[str, Any]:

@@ -5,6 +5,22 @@
 are a contract (INTERFACES.md); more fields are welcome. On disk a row is one line of JSON
 (:meth:`ResultRow.to_json`, :meth:`ResultRow.from_json`); keys this version does not know are
 kept in ``extra`` and written back unchanged.
+
+Map quality (planners that build an occupancy grid and return it from ``debug_state()`` as a
+:class:`~nav_bench.interface.GridState`: EO/PC, D* Lite, DWA with ``use_grid``, dwa_global;
+null for the others, and then left out of the JSON line like the other optional fields, as in
+rows stored before the fields existed). Measured once at the end of the episode by
+:mod:`nav_bench.mapping.quality` on the planner's own cells, over the cells its sonars observed
+(value != 50), a cell occupied above 65, a marked cell within one cell of a true obstacle
+counted right:
+
+* ``map_precision``: share of the cells marked occupied that are true obstacles (null: none marked);
+* ``map_recall``: share of the observed true obstacle cells marked occupied (null: none observed);
+* ``map_phantom_share``: share of the true free cells on the optimal path (the path of
+  ``optimal_length_m``) that the map marks occupied: walls invented across the best route
+  (null: goal unreachable);
+* ``map_observed_cells``, ``map_occupied_cells``, ``map_path_cells``, ``map_phantom_cells``:
+  the counts behind them (integers).
 """
 
 from __future__ import annotations
@@ -20,7 +36,8 @@ from nav_bench.episode.motion import MOTION_FIELDS, motion_metrics
 from nav_bench.episode.protocol import make_protocol
 from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.episode.trace import Trace
-from nav_bench.interface import Outcome
+from nav_bench.interface import Outcome, StuckReason
+from nav_bench.mapping.quality import MAP_QUALITY_FIELDS
 from nav_bench.world.geometry import polyline_length
 
 
@@ -65,6 +82,19 @@ class ResultRow:
     plan_ms_mean: float | None = None  # planner compute time per control cycle, ms (wall clock)
     plan_ms_p95: float | None = None  # its 95th percentile, ms (wall clock)
     barn_score: float | None = None  # under protocol barn: success x OT / clip(AT, 2 OT, 8 OT)
+    # what the episode cost and why it stalled (issue 16)
+    cpu_s: float | None = None  # CPU seconds of the process that played the episode
+    stuck_reason: StuckReason | None = None  # outcome stuck: why (planner's, else classified)
+    # map quality (nav_bench.mapping.quality): the planner's final occupancy grid against the
+    # true static map over the cells it observed (value != 50), occupied above 65, one cell of
+    # tolerance; null for planners that keep no grid (and for rows older than the fields)
+    map_precision: float | None = None  # share of occupied-marked cells that are true obstacles
+    map_recall: float | None = None  # share of observed true obstacle cells marked occupied
+    map_phantom_share: float | None = None  # share of the optimal path's free cells marked occupied
+    map_observed_cells: int | None = None  # cells the sonars said anything about
+    map_occupied_cells: int | None = None  # cells marked occupied
+    map_path_cells: int | None = None  # true free cells on the optimal path
+    map_phantom_cells: int | None = None  # of those, marked occupied (invented walls on the route)
     # set by the batch runner
     job_id: str | None = None  # stable id of (world, parameter set, robot, seed, limits)
     label: str | None = None  # the suite's name for the parameter set, e.g. "eopc_rr[RR=0.4]"
@@ -93,6 +123,8 @@ class ResultRow:
         protocol = make_protocol(settings.get("protocol", "nav_bench"),
                                  settings.get("protocol_options"))
         scores = protocol.score(success, optimal, time_s)
+        quality = metrics.planner_map_quality(world, trace.planner_state, robot_radius)
+        mapping = quality.row_fields() if quality is not None else {}
         return cls(
             world=world.name, world_file=world_file, planner=planner, params=params,
             params_id=params_id, seed=int(seed), success=success, outcome=outcome,
@@ -103,7 +135,7 @@ class ResultRow:
             wall_s=wall_s, robot=robot, robot_id=robot_id, settings=settings,
             goal_distance_m=float(np.hypot(*(final_true[:2] - np.asarray(world.goal, float)))),
             odometry_error_m=float(np.hypot(*(final_true[:2] - final_odom[:2]))),
-            events=count_events(trace.events), error=error, **motion, **scores)
+            events=count_events(trace.events), error=error, **motion, **scores, **mapping)
 
     @classmethod
     def failure(cls, *, world: str, world_file: str | None, planner: str, params: dict[str, Any],
@@ -126,7 +158,7 @@ class ResultRow:
             value = getattr(self, name)
             if value is None and name in _OMITTED_WHEN_NULL:
                 continue  # an episode that never finished has no final pose, a short one no motion
-            out[name] = value.value if isinstance(value, Outcome) else value
+            out[name] = value.value if isinstance(value, (Outcome, StuckReason)) else value
         if self.time_limit_s is not None:
             out["time_limit_s"] = self.time_limit_s
         if self.job_id is not None:
@@ -142,6 +174,8 @@ class ResultRow:
         check_row(data)
         known = {k: v for k, v in data.items() if k in _FIELD_NAMES}
         known["outcome"] = Outcome(known["outcome"])
+        if known.get("stuck_reason") is not None:
+            known["stuck_reason"] = StuckReason(known["stuck_reason"])
         return cls(**known, extra={k: v for k, v in data.items() if k not in _FIELD_NAMES})
 
 
@@ -161,8 +195,11 @@ def count_events(events: list[dict[str, Any]]) -> dict[str, int]:
 
 
 _MEASURED_AT_THE_END = frozenset({"goal_distance_m", "odometry_error_m"})
+_COST_FIELDS = frozenset({"cpu_s", "stuck_reason"})  # absent from rows that have none
 SCORE_FIELDS = ("barn_score",)  # protocols' scores: only rows played under that protocol have one
-_OMITTED_WHEN_NULL = _MEASURED_AT_THE_END | frozenset(MOTION_FIELDS) | frozenset(SCORE_FIELDS)
+_OMITTED_WHEN_NULL = (_MEASURED_AT_THE_END | frozenset(MOTION_FIELDS) | frozenset(SCORE_FIELDS)
+                      | _COST_FIELDS
+                      | frozenset(MAP_QUALITY_FIELDS))  # no grid: no map fields in the line
 _FIELD_NAMES = frozenset(f.name for f in dataclasses.fields(ResultRow)) - {"extra"}
 EPISODE_FIELDS = tuple(f.name for f in dataclasses.fields(ResultRow)
                        if f.name not in {"job_id", "label", "time_limit_s", "trace", "trace_error",
@@ -182,11 +219,14 @@ ROW_FIELDS: dict[str, tuple[type, ...]] = {
 # Measured quantities an ``error`` row may leave null: the episode never finished.
 ERROR_NULLABLE = frozenset({"time_s", "path_length_m", "replans", "collisions", "min_clearance_m"})
 OUTCOMES = tuple(o.value for o in Outcome)
+STUCK_REASONS = tuple(r.value for r in StuckReason)
 # fields measured on the wall clock: two plays of the same episode differ only in these
-WALL_CLOCK_FIELDS = frozenset({"wall_s", "plan_ms_mean", "plan_ms_p95"})
+WALL_CLOCK_FIELDS = frozenset({"wall_s", "plan_ms_mean", "plan_ms_p95", "cpu_s"})
 # optional fields (rows stored before they existed lack them): field -> accepted JSON types
-OPTIONAL_FIELDS: dict[str, tuple[type, ...]] = {name: (float, type(None))
-                                               for name in (*MOTION_FIELDS, *SCORE_FIELDS)}  # the words a row's outcome may take, in report order
+OPTIONAL_FIELDS: dict[str, tuple[type, ...]] = {
+    name: (float, type(None)) for name in (*MOTION_FIELDS, *SCORE_FIELDS, "cpu_s")}
+OPTIONAL_FIELDS.update({name: (int, type(None)) if name.endswith("_cells") else (float, type(None))
+                        for name in MAP_QUALITY_FIELDS})
 
 
 def row_problems(row: dict[str, Any]) -> list[str]:
@@ -209,6 +249,9 @@ def row_problems(row: dict[str, Any]) -> list[str]:
         value = row.get(name)
         if value is not None and (isinstance(value, bool) or not isinstance(value, (*types, int))):
             problems.append(f"field {name!r} should be a number or null, got {value!r:.60}")
+    reason = row.get("stuck_reason")
+    if reason is not None and reason not in STUCK_REASONS:
+        problems.append(f"stuck_reason {reason!r} is not one of {', '.join(STUCK_REASONS)}")
     if not problems:
         if row["outcome"] not in OUTCOMES:
             problems.append(f"outcome {row['outcome']!r} is not one of {', '.join(OUTCOMES)}")

@@ -15,10 +15,15 @@ class EpisodeSettings:
     """How an episode is played. Times in s, distances in m, rates in Hz."""
 
     control_hz: float = 10.0  # planner cycles per second (the paper's control cycle)
-    physics_hz: float = 240.0  # physics steps per second
+    # physics steps per second; the same value as nav_bench.sim.session.PHYSICS_HZ (why 60:
+    # results/fidelity/README.md). A suite plays the 240 Hz reference with limits: {physics_hz: 240}
+    physics_hz: float = 60.0
     time_s: float | None = None  # simulated time limit; None: 15 s per metre of (sx + sy), >= 60 s
     stuck_s: float | None = 30.0  # "stuck" if the robot stays within stuck_radius this long; None: off
     stuck_radius: float = 0.2  # m
+    # m, also "stuck" when the positions of the last 3 x stuck_s fit in a disc this size (an
+    # oscillating robot; nav_bench.episode.ending.Stuck); None: off
+    stuck_area_radius: float | None = 0.6
     # m, true distance to the goal that counts as reached. Planners stop at their own tolerance
     # (0.2 m by default) judged on odometry; the extra 0.1 m absorbs odometry drift, so success
     # measures navigation and a default-noise robot that stopped "at" the goal is not "stuck".

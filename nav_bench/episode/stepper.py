@@ -24,14 +24,14 @@ from typing import Any
 
 import numpy as np
 
-from nav_bench.episode.ending import first_ending
+from nav_bench.episode.ending import AREA_WINDOW, Stuck, classify_stuck, first_ending
 from nav_bench.episode.observers import Cycle, Observer
 from nav_bench.episode.protocol import protocol_of
 from nav_bench.episode.row import ResultRow
 from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.episode.trace import Trace, TraceRecorder
 from nav_bench.ids import episode_rng, params_id, robot_id
-from nav_bench.interface import Command, Observation, Outcome, RobotInfo
+from nav_bench.interface import Command, Observation, Outcome, RobotInfo, StuckReason
 from nav_bench.planners.base import Planner
 from nav_bench.planners.registry import full_params
 from nav_bench.sim.session import SimSession
@@ -177,8 +177,14 @@ class EpisodeStepper:
 
     # -- the end ---------------------------------------------------------------------------------
     def finish(self, *, wall_s: float, planner_state: dict[str, Any] | None = None,
-               replans: int | None = None) -> EpisodeResult:
-        """Close the observers; the trace and the row (built once, from the trace)."""
+               replans: int | None = None, cpu_s: float | None = None,
+               stuck_reason: StuckReason | None = None) -> EpisodeResult:
+        """Close the observers; the trace and the row (built once, from the trace).
+
+        ``cpu_s``: the process's CPU seconds for the episode (the driver measures it).
+        ``stuck_reason``: the planner's own reason, if the episode ended ``stuck``; without one
+        the episode classifies the true motion and the commands (:func:`classify_stuck`).
+        """
         if self.outcome is None:
             self.outcome = Outcome.ERROR
             self.error = "the episode was finished before it ended"
@@ -192,6 +198,7 @@ class EpisodeStepper:
         if sim is None:  # the simulation could not be built: nothing was measured
             row = ResultRow.failure(world=self.world.name, error=self.error or "", wall_s=wall_s,
                                     **identity)
+            row.cpu_s = cpu_s
             row.robot, row.robot_id = self.robot.name, self.robot_id
             start = np.array(self.world.start_pose)
             trace = self.recorder.finish(0.0, start, start, self.events, state)
@@ -205,11 +212,20 @@ class EpisodeStepper:
                                    robot=self.robot.name, robot_id=self.robot_id, time_s=sim.t,
                                    robot_radius=sim.robot_info.radius, replans=replans,
                                    collisions=sim.collisions, wall_s=wall_s, **identity)
+        row.cpu_s = cpu_s
+        if self.outcome is Outcome.STUCK:
+            row.stuck_reason = stuck_reason or classify_stuck(
+                trace.t, trace.true_pose, trace.cmd, self._stuck_window_s())
         trace.row = row.to_json()
         timing_sim = dict(sim.timing)
         timing = {**timing_sim, "planning": self.plan_s,
                   "other": wall_s - sum(timing_sim.values()) - self.plan_s, "total": wall_s}
         return EpisodeResult(row=row, trace=trace, timing=timing)
+
+    def _stuck_window_s(self) -> float:
+        """The seconds of motion the stuck rule that fired judged (s)."""
+        stuck = next(c for c in self._checks if isinstance(c, Stuck))
+        return stuck.seconds * (AREA_WINDOW if stuck.fired == "area" else 1.0)
 
     @staticmethod
     def robot_info_of(session: SimSession, robot: RobotSpec,

@@ -61,7 +61,7 @@ from scipy import ndimage
 
 from nav_bench.errors import InputError
 from nav_bench.interface import Command, GridState, Observation, StuckReason
-from nav_bench.mapping.occupancy import OccupancyGrid
+from nav_bench.mapping.occupancy import SONAR_MODELS, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import STOP, arrival_speed, pure_pursuit, steer
 from nav_bench.planners.footprint import Guarded, GuardSettings, guard
@@ -585,6 +585,9 @@ class DStarLite(Planner):
         Param("cell", 0.1, "m", "side of the occupancy grid's cells", minimum=0.01),
         Param("occupied_above", 65, "0..100", "occupancy value above which a cell is an obstacle",
               minimum=50, maximum=99),
+        Param("sonar_model", "elfes", "-", "the grid's inverse sensor model (nav_bench.mapping.occupancy): "
+              "'elfes' weighs by angle and shares the echo over its arc; 'band' the whole arc (before issue 12)",
+              choices=SONAR_MODELS),
         Param("inflation_margin", 0.35, "m",
               "clearance beyond the robot radius over which the cell cost falls to 1", minimum=0.0),
         # finite, not lethal: a sonar arc drawn over the robot's own surroundings must not cut
@@ -634,7 +637,7 @@ class DStarLite(Planner):
         """The grid, the obstacle distances and costs, and the first D* Lite plan (what
         ``dwa_global`` shares)."""
         p = self.settings
-        self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
+        self.grid = OccupancyGrid(obs.bounds, cell=p.cell, model=p.sonar_model)
         self.shape = self.grid.shape
         self.inscribed = obs.robot.radius / p.cell  # cells
         self.margin_cells = p.inflation_margin / p.cell

@@ -88,7 +88,7 @@ DWA_PARAMS: tuple[Param, ...] = (
     Param("goal_tolerance", 0.2, "m", "stop within this distance of the goal (odometry)", minimum=0.01),
 )
 _DSTAR = {p.name: p for p in DStarLite.params}  # the grid's parameters mean the same in both
-GRID_PARAMS: tuple[Param, ...] = (_DSTAR["cell"], _DSTAR["occupied_above"])
+GRID_PARAMS: tuple[Param, ...] = (_DSTAR["cell"], _DSTAR["occupied_above"], _DSTAR["sonar_model"])
 
 
 @dataclass(frozen=True)
@@ -194,7 +194,8 @@ class DWA(Planner):
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
         self.memory = EchoMemory(self.settings.memory_s)
-        self.grid: OccupancyGrid | None = (OccupancyGrid(obs.bounds, cell=self.settings.cell)
+        self.grid: OccupancyGrid | None = (OccupancyGrid(obs.bounds, cell=self.settings.cell,
+                                                         model=self.settings.sonar_model)
                                            if self._wants_grid() else None)
         self.last = Command(0.0, 0.0)
         self.local_goal = np.asarray(obs.goal, dtype=float).copy()

@@ -51,7 +51,7 @@ from nav_bench.interface import (
     wrap_angle,
 )
 from nav_bench.mapping.grid import GridFrame
-from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
+from nav_bench.mapping.occupancy import SONAR_MODELS, UNKNOWN, OccupancyGrid
 from nav_bench.mapping.visits import VisitGrid
 from nav_bench.planners.base import Param, ParamError, Planner
 
@@ -582,6 +582,9 @@ class EOPC(Planner):
         Param("l_max", 3.5, "log-odds", "upper clamp of PMO log-odds (PMO 97)", minimum=0.0),
         Param("hit_thickness", 0.1, "m", "radial thickness of the echo arc marked occupied (one cell)",
               minimum=0.001),
+        Param("sonar_model", "elfes", "-", "PMO's inverse sensor model (nav_bench.mapping.occupancy): "
+              "'elfes' weighs by angle from the axis and shares the echo over its arc; 'band' adds "
+              "l_occ to the whole arc (before issue 12)", choices=SONAR_MODELS),
     )
 
     @classmethod
@@ -605,7 +608,7 @@ class EOPC(Planner):
         m = p.map_margin
         xmin, ymin, xmax, ymax = obs.bounds
         bounds = (xmin - m, ymin - m, xmax + m, ymax + m)
-        self.pmo = OccupancyGrid(bounds, p.cell, l_occ=p.l_occ, l_free=p.l_free,
+        self.pmo = OccupancyGrid(bounds, p.cell, model=p.sonar_model, l_occ=p.l_occ, l_free=p.l_free,
                                  l_min=p.l_min, l_max=p.l_max, hit_thickness=p.hit_thickness)
         self.pmt = VisitGrid(bounds, p.cell)
         self._v_max = min(p.v_max, obs.robot.v_max)

@@ -35,6 +35,9 @@ from nav_bench.reporting.statistics import (
 )
 from nav_bench.specs import default_robot_radius
 
+# summary.csv's map-quality columns (GroupStats.map_*; empty: no grid)
+MAP_COLUMNS = ("map_episodes", "map_precision_mean", "map_recall_mean", "map_phantom_share_mean",
+               "map_phantom_episodes")
 MAX_TRAJECTORY_WORLDS = 24  # trajectory figures beyond this many worlds are left out
 
 
@@ -84,7 +87,7 @@ def summary_csv(ranked: Sequence[GroupStats], per_world: dict[str, list[GroupSta
     w.writerow(["set", "planner", "world", "episodes", *OUTCOMES, "success_rate", "success_lo",
                 "success_hi", "spl_mean", "spl_lo", "spl_hi", "time_to_goal_s", "path_length_m",
                 "replans_mean", "collisions_mean", "min_clearance_m", "barn_score_mean",
-                *MOTION_FIELDS])
+                *MOTION_FIELDS, *MAP_COLUMNS])
 
     def num(x: float) -> str:
         return "" if math.isnan(x) else f"{x:.6g}"
@@ -94,7 +97,9 @@ def summary_csv(ranked: Sequence[GroupStats], per_world: dict[str, list[GroupSta
                     num(g.success), num(g.success_ci[0]), num(g.success_ci[1]), num(g.spl),
                     num(g.spl_ci[0]), num(g.spl_ci[1]), num(g.time_s), num(g.path_m),
                     num(g.replans), num(g.collisions), num(g.min_clearance_m), num(g.barn_score),
-                    *(num(g.motion[k]) for k in MOTION_FIELDS)])
+                    *(num(g.motion[k]) for k in MOTION_FIELDS),
+                    g.map_episodes, num(g.map_precision), num(g.map_recall),
+                    num(g.map_phantom_share), g.map_phantom_episodes])
     return out.getvalue()
 
 
@@ -146,6 +151,27 @@ def _motion_section(ranked: Sequence[GroupStats], figures: Path, rel: Callable[[
         md += ["", f"![success vs smoothness]({rel(fig)})", "",
                "Up and to the left is better: more goals reached, with less jerk and less "
                "turning per metre."]
+    return [*md, ""]
+
+
+def _map_section(per_world: dict[str, list[GroupStats]], ranked: Sequence[GroupStats]) -> list[str]:
+    """Map quality per world and parameter set (planners that build a grid), then overall."""
+    groups = [*(g for stats in per_world.values() for g in stats), *ranked]
+    if not any(g.map_episodes for g in groups):
+        return []  # no planner kept a grid, or rows stored before the fields existed
+    md = ["## Map quality", "",
+          "How the planner's final occupancy grid matches the true static map, over the cells "
+          "its sonars observed (value ≠ 50); a cell is occupied above 65, a marked cell within "
+          "one cell of a true obstacle counts as right (definitions: README, \"Map quality\"). "
+          "Means over the episodes with a grid, reached or not. Phantom share: of the true free "
+          "cells on the optimal path, the share the map marks occupied; the last column counts "
+          "episodes with any such phantom wall on the route. Planners that keep no grid are "
+          "left out.", ""]
+    rows = [[g.world, g.set, g.map_episodes, _f(g.map_precision, 3), _f(g.map_recall, 3),
+             _f(g.map_phantom_share, 3), f"{g.map_phantom_episodes} / {g.map_episodes}"]
+            for g in groups if g.map_episodes]
+    md.append(_md_table(["world", "parameter set", "episodes", "precision", "recall",
+                         "phantom share", "phantom on route"], rows))
     return [*md, ""]
 
 
@@ -213,6 +239,7 @@ def write_report(dirs: list[Path], out: Path | None = None) -> Path:
                "all episodes (failures 0; 0.5 is the best possible)."]
     md += ["", f"![success and SPL per world]({rel(fig_success)})", ""]
     md += _motion_section(ranked, figures, rel)
+    md += _map_section(per_world, ranked)
     if fig_time is not None:
         md += [f"![success within a time budget]({rel(fig_time)})", "",
                "Share of episodes that reached the goal within T simulated seconds: a slow "

@@ -8,6 +8,9 @@ fixed-seed generator):
 * time to goal, path length and the motion metrics (acceleration, jerk, curvature, time near
   obstacles, planner ms per cycle) averaged over the episodes that reached the goal;
 * ``barn_score`` (protocol barn) averaged over all episodes, failures counting 0;
+* map quality (planners that build a grid, :mod:`nav_bench.mapping.quality`): precision,
+  recall and phantom-wall share averaged over every episode that has them (reached or not),
+  and the number of episodes whose map put a wall across the optimal path;
 * paired comparisons of two parameter sets on the same (world, seed, robot): mean difference
   of SPL (all pairs) and of path length (pairs where both reached the goal) with bootstrap
   intervals, and wins / ties / losses by SPL.
@@ -112,6 +115,12 @@ class GroupStats:
     # have it (the same episodes as time and path; NaN: none)
     motion: dict[str, float] = field(default_factory=dict)
     barn_score: float = math.nan  # mean over the episodes that have one (failures count 0)
+    # map quality over the episodes whose planner kept a grid (all outcomes; NaN: none)
+    map_episodes: int = 0  # episodes with map-quality fields
+    map_precision: float = math.nan  # mean of map_precision
+    map_recall: float = math.nan  # mean of map_recall
+    map_phantom_share: float = math.nan  # mean of map_phantom_share
+    map_phantom_episodes: int = 0  # episodes with at least one phantom cell on the optimal path
 
 def group_stats(rows: Sequence[dict[str, Any]], set_name: str, world: str) -> GroupStats:
     """Statistics of ``rows`` (all of one parameter set; one world or ``world='all'``)."""
@@ -133,7 +142,12 @@ def group_stats(rows: Sequence[dict[str, Any]], set_name: str, world: str) -> Gr
         min_clearance_m=_mean(r.get("min_clearance_m") for r in rows),
         spl_values=spl,
         motion={k: _mean(r.get(k) for r in reached) for k in MOTION_FIELDS},
-        barn_score=_mean(r.get("barn_score") for r in rows))
+        barn_score=_mean(r.get("barn_score") for r in rows),
+        map_episodes=sum(1 for r in rows if r.get("map_observed_cells") is not None),
+        map_precision=_mean(r.get("map_precision") for r in rows),
+        map_recall=_mean(r.get("map_recall") for r in rows),
+        map_phantom_share=_mean(r.get("map_phantom_share") for r in rows),
+        map_phantom_episodes=sum(1 for r in rows if (r.get("map_phantom_cells") or 0) > 0))
 
 def _by(rows: Iterable[dict[str, Any]], key: Callable[[dict[str, Any]], Any]) -> dict[Any, list]:
     out: dict[Any, list] = defaultdict(list)

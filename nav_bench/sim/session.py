@@ -19,6 +19,27 @@ from pybullet_utils.bullet_client import BulletClient
 from nav_bench.errors import SimulationError
 
 GRAVITY = 9.81  # m/s^2
+# Physics steps per simulated second by default. EpisodeSettings.physics_hz holds the same
+# value (nav_bench.episode.settings cannot import this module: the batch parent process never
+# imports PyBullet); tests/sim/test_sim_session.py checks that they agree. Why 60 Hz and not
+# Bullet's customary 240: results/fidelity/README.md (benchmarks/bench_physics.py and the paired
+# suite study of benchmarks/fidelity_suite.py).
+PHYSICS_HZ = 60.0
+# Contact penetration is removed at this rate (1/s): Bullet's contact ERP, the fraction of a
+# penetration corrected per step, is set to CONTACT_RECOVERY_HZ / physics_hz (at most 1), so a
+# contact behaves alike at every physics rate. Movers are teleported every step (static bodies
+# without velocity), so the solver sees a mover pushing the robot only as penetration, removed
+# at ERP x rate per second. Bullet's own ERP is fixed per step: fine at 240 Hz, but at 60 Hz a
+# 0.4 m/s box mover ran through a standing robot (0.7 m/s at 120 Hz). 20/s gives at every rate
+# the penetration Bullet's own ERP gives at 240 Hz (20 mm at 0.4 m/s, 50 mm at 1 m/s) and no
+# mover runs through the robot up to 1 m/s; tracking, odometry, stopping and wall contacts do
+# not change (benchmarks/bench_physics.py, results/fidelity/physics.md). 30/s (ERP 0.5 at
+# 60 Hz) made a robot held against a mover chatter: 13 contact episodes instead of 1.
+CONTACT_RECOVERY_HZ = 20.0
+# Bullet's constraint solver iterations per physics step (Bullet's own default). Fewer make a
+# step cheaper but the robot creeps at rest and misses its acceleration limit at 30 or fewer
+# (tests/sim/test_sim_robot.py; benchmarks/bench_physics.py measures 20 and 10).
+SOLVER_ITERATIONS = 50
 
 # Collision filter groups (bit masks). Two bodies collide when each one's group is in the
 # other's mask. PyBullet puts mass-0 bodies (ground, walls, movers) in STATIC, whose mask
@@ -75,6 +96,11 @@ class SimSession:
     Args:
         gui: open PyBullet's OpenGL window instead of the headless DIRECT engine.
         physics_hz: physics steps per simulated second (time step ``1 / physics_hz``).
+        solver_iterations: Bullet's constraint solver iterations per step (for fidelity
+            studies; keep the default).
+        contact_recovery_hz: rate (1/s) at which contact penetration is removed; Bullet's
+            contact ERP is this over ``physics_hz`` (at most 1). ``None`` keeps Bullet's own
+            ERP (for fidelity studies).
 
     Attributes:
         client: the BulletClient every other part of ``nav_bench.sim`` receives.
@@ -82,11 +108,19 @@ class SimSession:
         dt: physics time step, s.
     """
 
-    def __init__(self, gui: bool = False, physics_hz: float = 240.0) -> None:
+    def __init__(self, gui: bool = False, physics_hz: float = PHYSICS_HZ,
+                 solver_iterations: int = SOLVER_ITERATIONS,
+                 contact_recovery_hz: float | None = CONTACT_RECOVERY_HZ) -> None:
         if physics_hz <= 0:
             raise SimulationError(f"physics_hz must be positive, got {physics_hz}")
+        if solver_iterations < 1:
+            raise SimulationError(f"solver_iterations must be at least 1, got {solver_iterations}")
         self.gui = gui
         self.physics_hz = float(physics_hz)
+        self.solver_iterations = int(solver_iterations)
+        if contact_recovery_hz is not None and not contact_recovery_hz > 0.0:
+            raise SimulationError(f"contact_recovery_hz must be positive, got {contact_recovery_hz}")
+        self.contact_recovery_hz = contact_recovery_hz
         self._client: BulletClient | None = None
         self._pristine = False  # True between open() and the first Simulation built on it
         self.ground_id = -1
@@ -163,14 +197,18 @@ class SimSession:
         c.setGravity(0.0, 0.0, -GRAVITY)
         c.setTimeStep(self.dt)
         # Same inputs -> same results bit for bit: pair order must not depend on memory layout.
-        # Bullet's default 50 solver iterations stay: at 30 or fewer the robot creeps at rest and
-        # acceleration limits are missed (tests/sim/test_sim_robot.py), though steps get cheaper.
+        # Bullet's default 50 solver iterations stay (SOLVER_ITERATIONS): at 30 or fewer the
+        # robot creeps at rest and acceleration limits are missed (tests/sim/test_sim_robot.py),
+        # though steps get cheaper.
         # Friction pyramid instead of the cone: a physics step costs ~1.7x less when driving
         # (the wheels' contact manifolds hold 4 points each at 0.5 m/s), commanded motion is
         # still met within 0.1 % (tests/sim/test_sim_robot.py); the price is a yaw creep of
         # ~1e-4 rad per 2 s for a robot standing still.
         c.setPhysicsEngineParameter(deterministicOverlappingPairs=1, numSubSteps=0,
-                                    enableConeFriction=0)
+                                    enableConeFriction=0,
+                                    numSolverIterations=self.solver_iterations)
+        if self.contact_recovery_hz is not None:
+            c.setPhysicsEngineParameter(contactERP=min(1.0, self.contact_recovery_hz * self.dt))
         plane = c.createCollisionShape(pybullet.GEOM_PLANE)
         self.ground_id = c.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=plane)
         c.changeDynamics(self.ground_id, -1, lateralFriction=1.0, restitution=0.0)

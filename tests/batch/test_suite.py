@@ -246,3 +246,15 @@ def test_shipped_suites_load(monkeypatch):
     assert suite.settings["time_s"] == 300.0
     assert len(suite.seeds) == 5 and len(suite.worlds) == len(list((ROOT / "worlds" / "paper")
                                                                    .glob("*.yaml")))
+
+
+def test_limits_set_the_oscillating_robots_stuck_disc(folder):
+    suite = load_suite(write(folder, "worlds: [worlds/alpha.yaml]\nplanners: {g: {planner: goal_seek}}\n"
+                                     "limits: {stuck_area_radius: 0.8}\n"))
+    assert suite.settings["stuck_area_radius"] == 0.8
+    default = load_suite(write(folder, "worlds: [worlds/alpha.yaml]\nplanners: {g: {planner: goal_seek}}\n",
+                               name="default.yaml"))
+    assert default.settings["stuck_area_radius"] == 0.6
+    err = spec_error(write(folder, "worlds: [worlds/alpha.yaml]\nplanners: {g: {planner: goal_seek}}\n"
+                                   "limits: {stuck_area_radius: -1}\n", name="bad.yaml"))
+    assert "stuck_area_radius" in str(err)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -11,6 +12,9 @@ from nav_bench.errors import InputError
 from nav_bench.interface import SonarInfo
 from nav_bench.mapping import GridFrame, OccupancyGrid, log_odds_to_values
 
+# these tests pin the three-band model (its numbers are exact and simple); the default Elfes
+# model is tested in test_sonar_model.py
+BandGrid = functools.partial(OccupancyGrid, model="band")
 FREE_ONCE = 40  # round(100 / (1 + e^0.4)): one l_free = -0.4 on an unknown cell
 OCC_ONCE = 70  # round(100 / (1 + e^-0.85)): one l_occ = 0.85
 
@@ -41,7 +45,7 @@ def test_frame_shape_cells_and_outside_points() -> None:
 
 
 def test_new_grid_is_unknown_and_values_are_ros_uint8() -> None:
-    grid = OccupancyGrid((0.0, 0.0, 4.0, 3.0))
+    grid = BandGrid((0.0, 0.0, 4.0, 3.0))
     v = grid.values()
     assert v.dtype == np.uint8 and v.shape == (30, 40) and np.all(v == 50)
     assert not grid.values(copy=False).flags.writeable
@@ -50,7 +54,7 @@ def test_new_grid_is_unknown_and_values_are_ros_uint8() -> None:
 
 def test_one_cone_against_a_wall_free_before_occupied_at_unknown_behind() -> None:
     # robot at a cell centre facing +x, the echo 2.0 m ahead: the wall face at x = 3.05
-    grid = OccupancyGrid((0.0, 0.0, 6.0, 6.0))
+    grid = BandGrid((0.0, 0.0, 6.0, 6.0))
     grid.update(np.array([1.05, 3.05, 0.0]), np.array([2.0]), one_sonar())
     for x in (1.25, 2.05, 2.85, 2.95):  # along the axis, short of the arc
         assert value_at(grid, x, 3.05) == FREE_ONCE, x
@@ -64,7 +68,7 @@ def test_one_cone_against_a_wall_free_before_occupied_at_unknown_behind() -> Non
 
 def test_mount_offset_and_yaw_place_the_cone() -> None:
     # sonar 0.2 m ahead of the centre, facing the robot's left; robot faces +x
-    grid = OccupancyGrid((0.0, 0.0, 6.0, 6.0))
+    grid = BandGrid((0.0, 0.0, 6.0, 6.0))
     grid.update(np.array([3.05, 1.05, 0.0]), np.array([1.0]), one_sonar((0.0, 0.2), math.pi / 2))
     assert value_at(grid, 3.05, 2.25) == OCC_ONCE  # 1.05 + 0.2 + 1.0
     assert value_at(grid, 3.05, 1.75) == FREE_ONCE
@@ -72,7 +76,7 @@ def test_mount_offset_and_yaw_place_the_cone() -> None:
 
 
 def test_max_range_reading_frees_up_to_max_range_and_marks_nothing() -> None:
-    grid = OccupancyGrid((0.0, 0.0, 6.0, 6.0))
+    grid = BandGrid((0.0, 0.0, 6.0, 6.0))
     grid.update(np.array([1.05, 3.05, 0.0]), np.array([3.0]), one_sonar())
     v = grid.values()
     assert v.max() == 50  # no occupied evidence anywhere
@@ -83,7 +87,7 @@ def test_max_range_reading_frees_up_to_max_range_and_marks_nothing() -> None:
 
 
 def test_log_odds_accumulate_and_clamp() -> None:
-    grid = OccupancyGrid((0.0, 0.0, 6.0, 6.0))
+    grid = BandGrid((0.0, 0.0, 6.0, 6.0))
     for _ in range(20):
         grid.update(np.array([1.05, 3.05, 0.0]), np.array([2.0]), one_sonar())
     assert value_at(grid, 3.05, 3.05) == 97  # l_max 3.5
@@ -92,7 +96,7 @@ def test_log_odds_accumulate_and_clamp() -> None:
 
 
 def test_cells_outside_the_grid_are_ignored() -> None:
-    grid = OccupancyGrid((0.0, 0.0, 2.0, 2.0))
+    grid = BandGrid((0.0, 0.0, 2.0, 2.0))
     grid.update(np.array([1.95, 1.05, 0.0]), np.array([1.0]), one_sonar())  # facing out of the grid
     assert value_at(grid, 1.95, 1.05) == FREE_ONCE  # the part inside is updated
     grid.update(np.array([-5.0, -5.0, 0.0]), np.array([1.0]), one_sonar())  # robot far outside
@@ -130,7 +134,7 @@ def test_vectorised_update_equals_the_cell_by_cell_model() -> None:
     angles = np.radians([-90.0, -45.0, -15.0, 15.0, 45.0, 90.0])
     sonar = SonarInfo(angles=angles, offsets=0.18 * np.stack([np.cos(angles), np.sin(angles)], 1),
                       cone=math.radians(25.0), min_range=0.05, max_range=3.0)
-    grid = OccupancyGrid((0.0, 0.0, 6.0, 5.0))
+    grid = BandGrid((0.0, 0.0, 6.0, 5.0))
     for _ in range(15):
         pose = np.array([rng.uniform(0.5, 5.5), rng.uniform(0.5, 4.5), rng.uniform(-np.pi, np.pi)])
         ranges = np.where(rng.random(6) < 0.3, 3.0, rng.uniform(0.1, 2.9, 6))
@@ -142,6 +146,6 @@ def test_vectorised_update_equals_the_cell_by_cell_model() -> None:
 
 def test_bad_sensor_model_parameters_are_refused() -> None:
     with pytest.raises(InputError, match="l_occ"):
-        OccupancyGrid((0, 0, 1, 1), l_occ=-0.1)
+        BandGrid((0, 0, 1, 1), l_occ=-0.1)
     with pytest.raises(InputError, match="l_min"):
-        OccupancyGrid((0, 0, 1, 1), l_min=0.5)
+        BandGrid((0, 0, 1, 1), l_min=0.5)

@@ -12,8 +12,12 @@ from nav_bench.specs import RobotSpec, load_robot
 
 @pytest.fixture(scope="module")
 def session() -> Iterator[SimSession]:
-    """A DIRECT session shared by a module's tests (each Simulation resets its world)."""
-    with SimSession() as s:
+    """A DIRECT session shared by a module's tests (each Simulation resets its world).
+
+    Pinned at 240 Hz: these tests count physics steps (``step(240)`` is one second).
+    test_sim_fidelity.py runs the physics at the default rate and at 240 Hz both.
+    """
+    with SimSession(physics_hz=240.0) as s:
         yield s
 
 

@@ -7,9 +7,11 @@ import pybullet
 import pytest
 from sim_helpers import make_sim, make_world
 
+from nav_bench.episode import EpisodeSettings
 from nav_bench.errors import SimulationError
 from nav_bench.interface import Command
 from nav_bench.sim import SimSession, Simulation
+from nav_bench.sim.session import PHYSICS_HZ
 from nav_bench.specs import load_robot
 
 
@@ -32,8 +34,23 @@ def test_session_disconnects_on_exit_even_after_an_error():
         session.client  # noqa: B018
 
 
-def test_simulation_physics_rate_overrides_the_session(exact_robot):
+def test_default_physics_rate_is_the_episodes(exact_robot):
+    assert EpisodeSettings().physics_hz == PHYSICS_HZ == 60.0  # one value, two homes
     with SimSession() as s:
+        assert make_sim(s, make_world(), exact_robot).dt == pytest.approx(1 / PHYSICS_HZ)
+
+
+def test_session_applies_solver_iterations_and_refuses_bad_engine_settings():
+    with SimSession(solver_iterations=20) as s:
+        assert s.client.getPhysicsEngineParameters()["numSolverIterations"] == 20
+    with pytest.raises(SimulationError, match="solver_iterations"):
+        SimSession(solver_iterations=0)
+    with pytest.raises(SimulationError, match="contact_recovery_hz"):
+        SimSession(contact_recovery_hz=0.0)
+
+
+def test_simulation_physics_rate_overrides_the_session(exact_robot):
+    with SimSession(physics_hz=240.0) as s:
         sim = make_sim(s, make_world(), exact_robot)
         assert sim.dt == pytest.approx(1 / 240)
         sim = Simulation(s, make_world(), exact_robot, np.random.default_rng(0), physics_hz=100.0)

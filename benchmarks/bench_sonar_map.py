@@ -1,0 +1,73 @@
+"""The sonar map's update, per control cycle: the Elfes model against the three-band model.
+
+    python benchmarks/bench_sonar_map.py [--reps 3000] [--seed 0] [--size 40]
+
+One ``OccupancyGrid.update`` per control cycle (6 sonars of the default robot, 25 deg cones,
+3 m range, 30% no-echo readings, random poses) on a ``size`` m world (40 m: 400 x 400 cells of
+0.1 m). Both models see the same poses and readings and are timed alternately, call by call,
+so they share the machine's load; prints median and 99th percentile (microseconds) of the wall
+clock and of the process's CPU time (less sensitive to other jobs on a shared machine) and the
+ratios elfes / band. Target (issue 12): under 0.5 ms per update on 400 x 400.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import time
+
+import numpy as np
+
+from nav_bench.interface import SonarInfo
+from nav_bench.mapping import OccupancyGrid
+from nav_bench.mapping.occupancy import SONAR_MODELS
+
+TARGET_US = 500.0
+
+
+def diffbot_sonar() -> SonarInfo:
+    """The default robot's sonar ring: -90..90 deg on the body edge (0.18 m)."""
+    angles = np.radians([-90.0, -45.0, -15.0, 15.0, 45.0, 90.0])
+    return SonarInfo(angles=angles, offsets=0.18 * np.stack([np.cos(angles), np.sin(angles)], 1),
+                     cone=math.radians(25.0), min_range=0.05, max_range=3.0)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--reps", type=int, default=3000)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--size", type=float, default=40.0, help="world side, m (cells of 0.1 m)")
+    args = parser.parse_args()
+    rng = np.random.default_rng(args.seed)
+    sonar, size, n = diffbot_sonar(), args.size, args.reps + 50
+    poses = np.column_stack([rng.uniform(1.0, size - 1.0, n), rng.uniform(1.0, size - 1.0, n),
+                             rng.uniform(-math.pi, math.pi, n)])
+    scans = np.where(rng.random((n, 6)) < 0.3, 3.0, rng.uniform(0.2, 2.9, (n, 6)))
+    grids = {m: OccupancyGrid((0.0, 0.0, size, size), 0.1, model=m) for m in SONAR_MODELS}
+    clocks = {"wall": time.perf_counter_ns, "cpu": time.process_time_ns}
+    times = {(c, m): np.empty(args.reps) for c in clocks for m in SONAR_MODELS}
+    for i in range(n):
+        for model, grid in grids.items():  # alternate: both models under the same load
+            w0, c0 = time.perf_counter_ns(), time.process_time_ns()
+            grid.update(poses[i], scans[i], sonar)
+            w1, c1 = time.perf_counter_ns(), time.process_time_ns()
+            if i >= 50:  # the first 50 warm up (the disc of offsets is built on the first call)
+                times["wall", model][i - 50] = w1 - w0
+                times["cpu", model][i - 50] = c1 - c0
+    shape = next(iter(grids.values())).shape
+    print(f"OccupancyGrid.update, {shape[1]} x {shape[0]} grid, 6 sonars, {args.reps} updates "
+          f"per model, load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    stats = {key: (float(np.median(t)) / 1e3, float(np.percentile(t, 99)) / 1e3)
+             for key, t in times.items()}
+    for clock in clocks:
+        for model in SONAR_MODELS:
+            median, p99 = stats[clock, model]
+            verdict = "under" if median < TARGET_US else "OVER"
+            print(f"  {clock:4s} {model:6s} median {median:7.1f} us   p99 {p99:8.1f} us   "
+                  f"({verdict} the {TARGET_US:.0f} us target)")
+        (m_new, p_new), (m_old, p_old) = stats[clock, "elfes"], stats[clock, "band"]
+        print(f"  {clock:4s} ratio elfes / band: median {m_new / m_old:.2f}, p99 {p_new / p_old:.2f}")
+
+if __name__ == "__main__":
+    main()
