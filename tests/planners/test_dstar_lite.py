@@ -196,9 +196,10 @@ def test_unreachable_goal_stops_and_says_so() -> None:
     world = BoxWorld.room((9.0, 6.0), ring)
     result = run(DStarLite(no_path_recoveries=1), world, (1.0, 2.8, 0.0), (5.8, 2.8), time_s=90.0)
     assert not result.reached and result.collisions == 0
-    assert result.kinds("unreachable") == 2
+    assert result.kinds("unreachable") >= 2  # lost, recovered (the map cleared), lost for good
     phases = [e[2]["phase"] for e in result.events if e[0] == "recovery"]
-    assert phases == ["rotate", "clear_map", "replan"]
+    assert phases[:3] == ["rotate", "clear_map", "replan"]  # the one no-path recovery allowed
+    assert phases.count("clear_map") == 1
     assert np.all(result.commands[-10:] == 0.0)
     assert result.planner.stuck_reason() is StuckReason.NO_PATH
 
