@@ -6,12 +6,15 @@ the basic version's full ``rhs`` recomputation for vertices whose edges changed)
 
 The map: an :class:`~nav_bench.mapping.occupancy.OccupancyGrid` updated from the sonars
 every cycle. Under the *freespace assumption* unknown cells are free; a cell whose value is
-above ``occupied_above`` is an obstacle. Cell costs (:func:`cell_costs`): obstacle cells
-are lethal (``inf``); cells within ``radius + inflation_margin`` of an obstacle cost
-``inflated_cost`` per step instead of 1, so paths keep their distance when they can, yet a
-robot whose own cell was inflated (sonar arcs make obstacles look wider than they are)
-can still drive out. The goal's cell is never lethal (an echo arc over the goal would
-otherwise make it unreachable for good).
+above ``occupied_above`` is an obstacle. Cell costs (:func:`clearance_costs`, ROS costmap
+style): obstacle cells are lethal (``inf``); cells within the robot radius of one (inscribed:
+the body would overlap it) cost ``inflated_cost`` per step, finite so that a robot whose
+surroundings a sonar arc painted over can still drive out; beyond that the cost falls
+quadratically from ``clearance_cost`` to 1 at ``radius + inflation_margin``, so paths run down
+the middle of 1 m corridors and doors. Distances come from a Euclidean distance transform
+recomputed only in a window around the cells whose occupancy flipped (and only the window the
+sonars can reach is compared each cycle). The goal's cell is never lethal (an echo arc over
+the goal would otherwise make it unreachable for good).
 
 The graph: 8-connected cells; moving from ``u`` to a neighbour ``v`` costs the step length
 (1 or sqrt 2 cells) times the cost of ``v``; a diagonal step is forbidden when either cell it
@@ -27,9 +30,20 @@ vertex's current key). Keys are rounded to 1e-9 cells: ``g + h + km`` summed alo
 different routes must tie exactly, or a 1e-15 difference in ``k1`` overrides the ``k2``
 tie-break and the search stops one expansion early with a stale ``g``.
 
-The follower: pure pursuit on the cell path (``lookahead``), turning on the spot when the
-lookahead point is more than ``turn_in_place_deg`` off the heading; in the goal's cell or
-next to it, straight for the goal. No path -> stop and emit ``unreachable`` (once per loss).
+Time slicing (:class:`PathRepair`): at most ``expansions_per_cycle`` queue steps per control
+cycle; an unfinished repair continues next cycle while the robot follows the part of its old
+path that is still ahead and not inscribed/lethal (or stops). The path (a 160-cell prefix) is
+extracted only when the repair settled after a change on it; moving along it advances an offset.
+
+The follower: pure pursuit on the path (``lookahead``), turning on the spot when the lookahead
+point is more than ``turn_in_place_deg`` off the heading; in the goal's cell or next to it,
+straight for the goal. Every command is checked by :func:`~nav_bench.planners.footprint.guard`
+(the footprint's rollout over ``safety_horizon_s`` against the obstacle distances and the sonar
+echoes, slowing within ``slow_distance``). No progress for ``recovery_after_s`` (odometry and
+sonar evidence, :mod:`~nav_bench.planners.recovery`) starts the recovery: back up, rotate in
+place, re-plan from scratch (``recovery`` events with their ``phase``); no path starts a rotate
+and, if there is still none, clears the map (at most ``no_path_recoveries`` times); after that:
+stop and emit ``unreachable`` (once per loss). :meth:`DStarLite.stuck_reason` says why.
 
 A repair after which the path ahead differs from the previous one emits a ``replan`` event.
 :func:`astar` plans from scratch on the same graph (tests and ``benchmarks/bench_dstar.py``).
@@ -46,13 +60,16 @@ import numpy as np
 from scipy import ndimage
 
 from nav_bench.errors import InputError
-from nav_bench.interface import Command, GridState, Observation
+from nav_bench.interface import Command, GridState, Observation, StuckReason
 from nav_bench.mapping.occupancy import SONAR_MODELS, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import STOP, arrival_speed, pure_pursuit, steer
+from nav_bench.planners.footprint import Guarded, GuardSettings, guard
+from nav_bench.planners.recovery import ProgressWatch, Recovery, RecoveryPhase, RecoverySettings
 
 INF = math.inf
 SQRT2 = math.sqrt(2.0)
+PATH_PREFIX = 160  # cells of the path extracted at a time (16..23 m; the follower looks 0.5 m ahead)
 KEY_DIGITS = 9  # keys are rounded so that sums equal up to float rounding tie exactly
 # (drow, dcol, step length in cells); fixed order makes tie-breaking deterministic
 MOVES: tuple[tuple[int, int, float], ...] = (
@@ -75,6 +92,33 @@ def cell_costs(occupied: np.ndarray, inflate_cells: float, inflated_cost: float)
     near = ndimage.binary_dilation(occ, structure=disk(inflate_cells)) if occ.any() else occ
     cost = np.where(near, float(inflated_cost), 1.0)
     cost[occ] = INF
+    return cost
+
+
+def obstacle_distance(occupied: np.ndarray, cap: float) -> np.ndarray:
+    """(H, W) distance, in cells, from each cell centre to the nearest occupied cell centre
+    (0 on occupied cells), capped at ``cap`` (also where nothing is occupied)."""
+    occ = np.asarray(occupied, dtype=bool)
+    if not occ.any():
+        return np.full(occ.shape, float(cap))
+    return np.minimum(ndimage.distance_transform_edt(~occ), cap)
+
+
+def clearance_costs(dist: np.ndarray, inscribed: float, margin: float, inscribed_cost: float,
+                    clearance_cost: float) -> np.ndarray:
+    """(H, W) step-cost multipliers from obstacle distances ``dist`` (cells), ROS costmap style.
+
+    ``inf`` on occupied cells (``dist == 0``); ``inscribed_cost`` within ``inscribed`` cells
+    (the robot's radius: its body would overlap the obstacle there); beyond it the cost falls
+    quadratically from ``clearance_cost`` to 1 at ``inscribed + margin`` cells, and is 1 farther
+    out. Costs are rounded to 1/64 so that equal distances give exactly equal costs.
+    """
+    d = np.asarray(dist, dtype=float)
+    outer = inscribed + margin
+    frac = np.clip((outer - d) / max(margin, 1e-9), 0.0, 1.0)
+    cost = np.round((1.0 + (clearance_cost - 1.0) * frac ** 2) * 64.0) / 64.0
+    cost[d <= inscribed] = float(inscribed_cost)
+    cost[d <= 0.0] = INF
     return cost
 
 
@@ -146,20 +190,28 @@ class DStarLiteSearch:
         self.km = 0.0
         self.goal = self.graph.index(goal)
         self.start = self.graph.index(start)
+        self._start_rc = divmod(self.start, self.graph.width)
         self.last = self.start
         self.expansions = 0
+        self.settled = False  # did the last compute() finish (not stopped by its budget)?
         self.rhs[self.goal] = 0.0
         self._push(self.goal)
 
     # -- queue (lazy deletion) ---------------------------------------------------------------------
     def _calc_key(self, s: int) -> tuple[float, float]:
-        m = min(self.g[s], self.rhs[s])
+        g, rhs = self.g[s], self.rhs[s]
+        m = g if g < rhs else rhs
         if m == INF:
             return (INF, INF)
+        # the octile distance from the start, inlined: this runs for every queue push
+        br, bc = divmod(s, self.graph.width)
+        ar, ac = self._start_rc
+        dr = ar - br if ar > br else br - ar
+        dc = ac - bc if ac > bc else bc - ac
+        h = dr + dc + (SQRT2 - 2.0) * (dr if dr < dc else dc)
         # rounded: g + h + km summed in different orders must compare equal, or a tie that
         # k2 should break is decided by a 1e-15 difference in k1 (and the search stops early)
-        return (round(m + self.graph.octile(self.start, s) + self.km, KEY_DIGITS),
-                round(m, KEY_DIGITS))
+        return (round(m + h + self.km, KEY_DIGITS), round(m, KEY_DIGITS))
 
     def _push(self, s: int) -> None:
         k = self._calc_key(s)
@@ -194,19 +246,22 @@ class DStarLiteSearch:
 
     # -- the algorithm -----------------------------------------------------------------------------
     def compute(self, max_expansions: int | None = None) -> int:
-        """ComputeShortestPath; returns the number of expansions it made."""
+        """ComputeShortestPath; returns the number of expansions it made. With
+        ``max_expansions`` it stops after that many queue steps (expansions and re-keyings)
+        and :attr:`settled` stays False: call it again to continue."""
         g, rhs, key, graph = self.g, self.rhs, self.key, self.graph
         cost, inner, moves = graph.cost, graph.inner, graph.moves
         start, goal = self.start, self.goal
-        done = 0
+        done = steps = 0
+        self.settled = False
         while True:
             top = self._top()
-            if top is None:
+            if top is None or not ((top[0], top[1]) < self._calc_key(start) or rhs[start] > g[start]):
+                self.settled = True
                 break
-            if not ((top[0], top[1]) < self._calc_key(start) or rhs[start] > g[start]):
+            if max_expansions is not None and steps >= max_expansions:
                 break
-            if max_expansions is not None and done >= max_expansions:
-                break
+            steps += 1  # re-keying a vertex counts toward the budget as well: it costs as much
             k_old = (top[0], top[1])
             u = top[2]
             k_new = self._calc_key(u)
@@ -246,32 +301,66 @@ class DStarLiteSearch:
         return done
 
     def move_start(self, rc: Sequence[int]) -> None:
-        """The robot is now in cell ``rc`` (call :meth:`compute` afterwards)."""
-        self.start = self.graph.index(rc)
+        """The robot is now in cell ``rc`` (call :meth:`compute` afterwards).
+
+        ``km`` grows at once (the paper grows it at the next cost change): a search
+        interrupted by its budget continues with a moved start, and the queued keys must
+        stay lower bounds of the keys computed from the new start."""
+        new = self.graph.index(rc)
+        if new != self.start:
+            self.km += self.graph.octile(self.last, new)
+            self.last = new
+        self.start = new
+        self._start_rc = divmod(new, self.graph.width)
 
     def set_costs(self, rows: Iterable[int], cols: Iterable[int], values: Iterable[float]) -> int:
-        """Change cell costs; updates every vertex with a changed outgoing edge. Returns the
-        number of cells that really changed."""
-        graph, cost, inner = self.graph, self.graph.cost, self.graph.inner
-        touched: set[int] = set()
+        """Change cell costs and update the vertices whose outgoing edges changed. Returns the
+        number of cells that really changed.
+
+        The paper's optimised update (Fig. 4): an edge into ``v`` that got cheaper lowers the
+        predecessor's ``rhs`` by one comparison; one that got dearer recomputes it only if the
+        predecessor's ``rhs`` went through ``v``. A cell that becomes or stops being lethal also
+        changes the diagonal edges cutting past it: its whole 3 x 3 block is recomputed."""
+        graph, cost, inner, g, rhs = self.graph, self.graph.cost, self.graph.inner, self.g, self.rhs
+        moves, goal, w = graph.moves, self.goal, graph.width
+        full: set[int] = set()  # rhs recomputed from all successors
+        lowered: set[int] = set()  # rhs lowered in place
         changed = 0
-        w = graph.width
         for r, c, val in zip(rows, cols, values, strict=True):
-            idx = (int(r) + 1) * w + int(c) + 1
-            val = float(val)
-            if cost[idx] == val:
+            v = (int(r) + 1) * w + int(c) + 1
+            val, old = float(val), cost[v]
+            if old == val:
                 continue
-            cost[idx] = val
+            cost[v] = val
             changed += 1
-            touched.update((idx, idx + 1, idx - 1, idx + w, idx - w,
-                            idx + w + 1, idx + w - 1, idx - w + 1, idx - w - 1))
+            if old == INF or val == INF:
+                full.update((v, v + 1, v - 1, v + w, v - w, v + w + 1, v + w - 1, v - w + 1, v - w - 1))
+                continue
+            gv = g[v]
+            if gv == INF:
+                continue  # no rhs goes through v, and a cheaper v cannot lower one yet
+            for off, step, cut in moves:
+                s = v - off  # the edge s -> v
+                if not inner[s] or s == goal:
+                    continue
+                if cut is not None and (cost[s + cut[0]] == INF or cost[s + cut[1]] == INF):
+                    continue
+                if val < old:
+                    cand = step * val + gv
+                    if cand < rhs[s]:
+                        rhs[s] = cand
+                        lowered.add(s)
+                elif rhs[s] >= step * old + gv - 1e-9:  # s may have taken its rhs through v
+                    full.add(s)
         if not changed:
             return 0
         self.km += graph.octile(self.last, self.start)
         self.last = self.start
-        for u in sorted(touched):  # sorted: the same queue order on every run
-            if inner[u] and u != self.goal:
-                self.rhs[u] = self._recompute_rhs(u)
+        for u in sorted(full):  # sorted: the same queue order on every run
+            if inner[u] and u != goal:
+                rhs[u] = self._recompute_rhs(u)
+        for u in sorted(full | lowered):
+            if inner[u] and u != goal:
                 self._update_vertex(u)
         return changed
 
@@ -280,14 +369,21 @@ class DStarLiteSearch:
         """Cost (cells) of the shortest path from the start to the goal; inf if none."""
         return self.rhs[self.start] if self.start != self.goal else 0.0
 
-    def path(self, max_len: int | None = None) -> list[tuple[int, int]]:
-        """Cells from the start to the goal by descending ``c + g``; [] if there is no path."""
+    def path(self, max_len: int | None = None, join: dict[tuple[int, int], int] | None = None,
+             tail: list[tuple[int, int]] | None = None) -> list[tuple[int, int]]:
+        """Cells from the start to the goal by descending ``c + g``; [] if there is no path.
+
+        With ``join`` (cell -> index in ``tail``, a path extracted on the same costs), the
+        descent stops at the first cell of ``tail`` it meets and continues with ``tail`` from
+        there (the descent from that cell would be the same)."""
         graph, g = self.graph, self.g
         if self.path_cost == INF:
             return []
         s, out, seen = self.start, [self.graph.cell(self.start)], {self.start}
         limit = max_len or len(g)
         while s != self.goal and len(out) < limit:
+            if join is not None and tail is not None and len(out) > 1 and out[-1] in join:
+                return out + tail[join[out[-1]] + 1:]
             best, nxt = INF, -1
             for off, step, cut in graph.moves:
                 c = graph.edge(s, off, step, cut)
@@ -341,8 +437,146 @@ def astar(cost: np.ndarray, start: Sequence[int], goal: Sequence[int]
     return INF, []
 
 
+class PathRepair:
+    """D* Lite with a budget of expansions per control cycle, keeping its path between cycles.
+
+    Each :meth:`cycle` moves the start, applies the cost changes and runs at most ``budget``
+    expansions (0: unlimited); an interrupted search continues next cycle. While it is
+    unfinished, :attr:`cells` is the part of the last complete path that is still ahead of
+    the robot and not lethal (at most ``keep`` cells), or [] (stop). The path is extracted
+    only when the search has settled after a cost change on it (or the robot left the path);
+    a robot moving along its path only advances an offset into it (no O(path) work). With
+    ``prefix`` > 0 only that many cells are extracted (a follower needs the near part), and
+    the next piece when the robot has used half of them.
+    """
+
+    def __init__(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int],
+                 budget: int = 0, keep: int = 30, lethal: float = INF, prefix: int = 0) -> None:
+        self.search = DStarLiteSearch(cost, start, goal)
+        self.budget, self.keep, self.lethal, self.prefix = budget, keep, lethal, prefix
+        self._path: list[tuple[int, int]] = []
+        self._where: dict[tuple[int, int], int] = {}
+        self._offset = 0
+        self._near = -1  # a path index beside the robot while it is off its path
+        self.version = 0  # counts path extractions
+        self.stale = True  # the path no longer reflects the costs (a repair is under way)
+        self._costs_changed = True  # on the path since the last extraction (else it may still do)
+        self._g_path: list[float] = []  # g of each path cell at extraction (the start's: its rhs)
+        self.cycle(tuple(start))
+
+    @property
+    def complete(self) -> bool:
+        """Has the search settled on the current costs and start?"""
+        return self.search.settled
+
+    @property
+    def offset(self) -> int:
+        """Index in :attr:`full_path` of the robot's cell."""
+        return self._offset
+
+    @property
+    def full_path(self) -> list[tuple[int, int]]:
+        """The last extracted path (its first cell is where the robot was then)."""
+        return self._path
+
+    @property
+    def cells(self) -> list[tuple[int, int]]:
+        """The path from the robot's cell to the goal ([] if there is none, or while a repair is
+        unfinished and the old path is lethal or left behind)."""
+        if not self.stale:
+            return self._path[self._offset:]
+        return self._safe_prefix()
+
+    def _nearby(self, rc: tuple[int, int], last: int) -> int:
+        """Index of a cell of the path within 2 cells of ``rc`` near the last offset, or -1
+        (pure pursuit cuts corners: the robot is often beside its path, not on it)."""
+        if last < 0:
+            return -1
+        for i in range(max(last - 5, 0), min(last + 40, len(self._path))):
+            r, c = self._path[i]
+            if abs(r - rc[0]) <= 2 and abs(c - rc[1]) <= 2:
+                return i
+        return -1
+
+    def _safe_prefix(self) -> list[tuple[int, int]]:
+        start = self._offset if self._offset >= 0 else self._near
+        if not self._path or start < 0:
+            return []
+        graph = self.search.graph
+        out = self._path[start:start + self.keep]
+        for i, rc in enumerate(out[1:], start=1):
+            if graph.cost[graph.index(rc)] >= self.lethal:
+                return out[:i] if i > 1 else []
+        return out
+
+    def cycle(self, start: Sequence[int], rows: np.ndarray | None = None,
+              cols: np.ndarray | None = None, vals: np.ndarray | None = None) -> tuple[int, bool]:
+        """One control cycle. Returns (cells whose cost changed, whether a new path was extracted
+        after a cost change made the old one differ)."""
+        search = self.search
+        start = (int(start[0]), int(start[1]))
+        moved = search.graph.index(start) != search.start
+        search.move_start(start)
+        changed = search.set_costs(rows, cols, vals) if rows is not None and len(rows) else 0
+        if changed:
+            self.stale = True
+            if self._costs_changed or self._hits_path(rows, cols, vals):
+                self._costs_changed = True
+        if moved:
+            last = self._offset if self._offset >= 0 else self._near
+            self._offset = self._where.get(start, -1)
+            if self._offset < 0:
+                self.stale = True  # left the path: its suffix is no answer
+                self._near = self._nearby(start, last)
+            elif (self.prefix and len(self._path) - self._offset < self.prefix // 2
+                  and self._path[-1] != search.graph.cell(search.goal)):
+                self.stale = self._costs_changed = True  # extract the next piece
+        if self.stale or not search.settled:
+            search.compute(self.budget or None)
+        if not (self.stale and search.settled):
+            return changed, False
+        old = self._path[max(self._offset, 0):]
+        if (not self._costs_changed and self._offset >= 0
+                and abs(search.path_cost - self._g_path[self._offset]) < 1e-9):
+            # no cost on the path changed and the cost from here did not: still optimal
+            self.stale = False
+            return changed, False
+        if self._costs_changed:
+            self._path = search.path(max_len=self.prefix or None)
+        else:  # only the robot left its path: descend until it rejoins it
+            self._path = search.path(max_len=self.prefix or None, join=self._where, tail=self._path)
+        self._costs_changed = False
+        self.version += 1
+        self._where = {c: i for i, c in enumerate(self._path)}
+        g, index = search.g, search.graph.index
+        self._g_path = [search.path_cost] + [g[index(c)] for c in self._path[1:]]
+        self._offset = 0
+        self.stale = False
+        return changed, bool(changed) and bool(self._path) and _path_changed(old, self._path)
+
+    def _hits_path(self, rows: np.ndarray, cols: np.ndarray, vals: np.ndarray) -> bool:
+        """Did a cost on the path ahead change, or did a cell next to it become lethal (a
+        diagonal step may cut past it)?"""
+        where, start = self._where, max(self._offset, 0)
+        for r, c, val in zip(rows.tolist(), cols.tolist(), vals.tolist(), strict=True):
+            if where.get((r, c), -1) >= start:
+                return True
+            if val == INF and any(where.get((r + dr, c + dc), -1) >= start
+                                  for dr in (-1, 0, 1) for dc in (-1, 0, 1)):
+                return True
+        return False
+
+    def restart(self, cost: np.ndarray, start: Sequence[int]) -> None:
+        """Plan anew from scratch on ``cost`` (a forced re-plan)."""
+        goal = self.search.graph.cell(self.search.goal)
+        self.search = DStarLiteSearch(cost, start, goal)
+        self.stale = self._costs_changed = True
+        self.cycle(tuple(start))
+
+
 class DStarLite(Planner):
-    """D* Lite (Koenig & Likhachev 2002) on a sonar occupancy grid, freespace assumption."""
+    """D* Lite (Koenig & Likhachev 2002) on a sonar occupancy grid, freespace assumption, with a
+    clearance cost, a footprint-checking pure-pursuit follower and a back-up/rotate recovery."""
 
     name: ClassVar[str] = "dstar_lite"
     reference: ClassVar[str] = "Koenig & Likhachev, D* Lite, AAAI 2002"
@@ -354,110 +588,262 @@ class DStarLite(Planner):
         Param("sonar_model", "elfes", "-", "the grid's inverse sensor model (nav_bench.mapping.occupancy): "
               "'elfes' weighs by angle and shares the echo over its arc; 'band' the whole arc (before issue 12)",
               choices=SONAR_MODELS),
-        Param("inflation_margin", 0.15, "m", "clearance beyond the robot radius that makes cells costly",
-              minimum=0.0),
-        # 1000, not 20: at 20 a path through a few inflated cells beat a detour of a few metres,
-        # pure pursuit then clipped corners (paper worlds: 12 of 35 episodes stuck on a corner
-        # with spinning wheels); at 1000 the band is used only when nothing else is free.
-        Param("inflated_cost", 1000.0, "-", "step-cost factor of cells within radius + margin of an obstacle",
-              minimum=1.0),
+        Param("inflation_margin", 0.35, "m",
+              "clearance beyond the robot radius over which the cell cost falls to 1", minimum=0.0),
+        # finite, not lethal: a sonar arc drawn over the robot's own surroundings must not cut
+        # it off; 1000 makes the planner use such cells only when nothing else is free
+        Param("inflated_cost", 1000.0, "-", "step-cost factor of cells within the robot radius of an "
+              "obstacle (inscribed)", minimum=1.0),
+        Param("clearance_cost", 5.0, "-", "step-cost factor just beyond the robot radius, falling "
+              "quadratically to 1 at radius + inflation_margin", minimum=1.0),
+        Param("expansions_per_cycle", 250, "-", "D* Lite expansions per control cycle; an unfinished "
+              "repair continues next cycle (0: unlimited)", minimum=0),
         Param("lookahead", 0.5, "m", "pure-pursuit lookahead distance along the path", minimum=0.05),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the path is farther off the heading",
               minimum=0.0, maximum=180.0),
+        Param("safety_horizon_s", 1.0, "s", "the commanded motion's footprint is checked against the "
+              "map this far ahead", minimum=0.1),
+        Param("slow_distance", 0.1, "m", "slow down when the clearance ahead is less than this beyond "
+              "the required one", minimum=0.0),
+        Param("recovery_after_s", 6.0, "s", "start the recovery (back up, rotate, re-plan) after this "
+              "long without progress (0: never)", minimum=0.0),
+        Param("progress_m", 0.3, "m", "displacement or gain toward the goal that counts as progress",
+              minimum=0.05),
+        Param("backup_m", 0.25, "m", "how far the recovery backs up", minimum=0.0),
+        Param("rotate_deg", 360.0, "deg", "how far the recovery turns in place to re-sense", minimum=0.0),
+        # sonar arcs can close a real gap for good; forgetting the map (freespace assumption)
+        # lets the robot look again, a bounded number of times so an unreachable goal still ends
+        Param("no_path_recoveries", 3, "-", "recoveries per episode when there is no path: rotate to "
+              "re-sense, then clear the map if there is still none", minimum=0),
     )
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
+        self.reset_path(obs)
+        p = self.settings
+        self.guard_settings = GuardSettings(required=obs.robot.radius + 0.5 * p.cell,
+                                            horizon=p.safety_horizon_s, slow_distance=p.slow_distance)
+        rs = RecoverySettings(after_s=p.recovery_after_s, progress_m=p.progress_m, backup_m=p.backup_m,
+                              rotate_rad=math.radians(p.rotate_deg),
+                              omega=min(1.0, 0.6 * obs.robot.omega_max))
+        self.watch = ProgressWatch(rs)
+        self.watch.restart(obs)
+        self.recovery = Recovery(rs)
+        self.blocked = False  # the follower found no safe motion this cycle
+        self.last_reason: StuckReason | None = None
+        self.no_path_left = p.no_path_recoveries
+
+    def reset_path(self, obs: Observation) -> None:
+        """The grid, the obstacle distances and costs, and the first D* Lite plan (what
+        ``dwa_global`` shares)."""
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell, model=p.sonar_model)
         self.shape = self.grid.shape
-        self.inflate_cells = (obs.robot.radius + p.inflation_margin) / p.cell
-        self.struct = disk(self.inflate_cells)
+        self.inscribed = obs.robot.radius / p.cell  # cells
+        self.margin_cells = p.inflation_margin / p.cell
+        self.cap = self.inscribed + self.margin_cells + 1.0  # distances beyond change no cost
+        self.pad = math.ceil(self.cap)
+        # the sonars change cells only this far from the robot
+        self.window = math.ceil((obs.robot.sonar.max_range + 2 * p.cell) / p.cell) + 1
         self.occupied = np.zeros(self.shape, dtype=bool)
+        self.dist = np.full(self.shape, self.cap)  # cells to the nearest occupied cell centre
         self.cost = np.ones(self.shape)
         self.goal_rc = self._clamp(self.grid.world_to_cell(obs.goal))
-        self.search = DStarLiteSearch(self.cost, self._clamp(self.grid.world_to_cell(obs.pose[:2])),
-                                      self.goal_rc)
-        self.search.compute()
-        self.cells: list[tuple[int, int]] = self.search.path()
-        self.path_xy = self._to_world(self.cells, obs.goal)
+        self.goal_xy = np.asarray(obs.goal, dtype=float)
+        start = self._clamp(self.grid.world_to_cell(obs.pose[:2]))
+        self.repair = PathRepair(self.cost, start, self.goal_rc, budget=p.expansions_per_cycle,
+                                 lethal=p.inflated_cost, prefix=PATH_PREFIX)
+        self._path_id = -1
+        self._xy_full = np.zeros((0, 2))
+        self._refresh_xy()
         self.unreachable = False
+
+    @property
+    def search(self) -> DStarLiteSearch:
+        return self.repair.search
+
+    @property
+    def cells(self) -> list[tuple[int, int]]:
+        """The path from the robot's cell to the goal (what it follows now)."""
+        return self.repair.cells
 
     def _clamp(self, rc: np.ndarray) -> tuple[int, int]:
         h, w = self.shape
         return (int(min(max(rc[0], 0), h - 1)), int(min(max(rc[1], 0), w - 1)))
 
-    def _to_world(self, cells: list[tuple[int, int]], goal: np.ndarray) -> np.ndarray:
+    def _to_world(self, cells: list[tuple[int, int]]) -> np.ndarray:
         if not cells:
             return np.zeros((0, 2))
         rc = np.array(cells)
         xy = self.grid.cell_center(rc[:, 0], rc[:, 1])
-        xy[-1] = goal  # end at the goal itself, not its cell centre
+        if cells[-1] == self.goal_rc:
+            xy[-1] = self.goal_xy  # end at the goal itself, not its cell centre
         return xy
 
-    def _map_changes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _refresh_xy(self) -> None:
+        """Recompute the world path only when a new one was extracted."""
+        if self.repair.version != self._path_id:
+            self._path_id = self.repair.version
+            self._xy_full = self._to_world(self.repair.full_path)
+        if self.repair.stale:
+            self.path_xy = self._to_world(self.repair.cells)
+        else:
+            self.path_xy = self._xy_full[self.repair.offset:]
+
+    def clearance(self, xy: np.ndarray) -> np.ndarray:
+        """(N,) m from points ``xy`` (N, 2) to the nearest occupied cell centre (capped at
+        radius + margin + 1 cell; 0 outside the grid)."""
+        rc = self.grid.world_to_cell(xy)
+        inside = self.grid.frame.contains(rc[:, 0], rc[:, 1])
+        r = np.where(inside, rc[:, 0], 0)
+        c = np.where(inside, rc[:, 1], 0)
+        return np.where(inside, self.dist[r, c] * self.settings.cell, 0.0)
+
+    def _map_changes(self, robot_rc: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Cells whose cost changed since the last cycle (rows, cols, new costs).
 
-        Inflation is recomputed only in the window around the cells whose occupancy flipped.
-        """
-        occ = self.grid.values(copy=False) > self.settings.occupied_above
-        occ[self.goal_rc] = False  # the goal cell is never lethal
-        flipped = np.nonzero(occ != self.occupied)
-        if len(flipped[0]) == 0:
-            return flipped[0], flipped[1], np.zeros(0)
-        self.occupied = occ
-        n = self.struct.shape[0] // 2
+        Only the window the sonars can reach around the robot is compared; distances and costs
+        are recomputed only around the cells whose occupancy flipped."""
         h, w = self.shape
-        r0, r1 = max(flipped[0].min() - n, 0), min(flipped[0].max() + n + 1, h)
-        c0, c1 = max(flipped[1].min() - n, 0), min(flipped[1].max() + n + 1, w)
-        # the window's costs depend on occupancy up to n cells beyond it
-        R0, R1, C0, C1 = max(r0 - n, 0), min(r1 + n, h), max(c0 - n, 0), min(c1 + n, w)
-        sub = cell_costs(occ[R0:R1, C0:C1], self.inflate_cells, self.settings.inflated_cost)
-        new = sub[r0 - R0:r1 - R0, c0 - C0:c1 - C0]
+        n = self.window
+        a0, a1 = max(robot_rc[0] - n, 0), min(robot_rc[0] + n + 1, h)
+        b0, b1 = max(robot_rc[1] - n, 0), min(robot_rc[1] + n + 1, w)
+        occ = self.grid.values(copy=False)[a0:a1, b0:b1] > self.settings.occupied_above
+        gr, gc = self.goal_rc[0] - a0, self.goal_rc[1] - b0
+        if 0 <= gr < a1 - a0 and 0 <= gc < b1 - b0:
+            occ[gr, gc] = False  # the goal cell is never lethal
+        fr, fc = np.nonzero(occ != self.occupied[a0:a1, b0:b1])
+        if len(fr) == 0:
+            return fr, fc, np.zeros(0)
+        self.occupied[a0:a1, b0:b1] = occ
+        m = self.pad
+        r0, r1 = max(a0 + fr.min() - m, 0), min(a0 + fr.max() + m + 1, h)
+        c0, c1 = max(b0 + fc.min() - m, 0), min(b0 + fc.max() + m + 1, w)
+        # the window's distances depend on obstacles up to m cells beyond it
+        R0, R1, C0, C1 = max(r0 - m, 0), min(r1 + m, h), max(c0 - m, 0), min(c1 + m, w)
+        dist = obstacle_distance(self.occupied[R0:R1, C0:C1], self.cap)[r0 - R0:r1 - R0, c0 - C0:c1 - C0]
+        self.dist[r0:r1, c0:c1] = dist
+        p = self.settings
+        new = clearance_costs(dist, self.inscribed, self.margin_cells, p.inflated_cost, p.clearance_cost)
         old = self.cost[r0:r1, c0:c1]
         dr, dc = np.nonzero(new != old)
         vals = new[dr, dc]
         old[dr, dc] = vals
         return dr + r0, dc + c0, vals
 
-    def act(self, obs: Observation) -> Command:
-        if not self.update_path(obs):
-            return STOP
-        p = self.settings
-        xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
-        v = min(p.v_max, obs.robot.v_max)
-        if len(self.cells) <= 2:  # in the goal's cell or next to it
-            d = float(np.hypot(*(goal - xy)))
-            return steer(obs, math.atan2(goal[1] - xy[1], goal[0] - xy[0]), arrival_speed(d, v))
-        return pure_pursuit(obs, self.path_xy, p.lookahead, v,
-                            turn_in_place=math.radians(p.turn_in_place_deg))
-
     def update_path(self, obs: Observation) -> bool:
-        """Fuse the sonars into the grid, repair the search and refresh :attr:`path_xy`; emits
-        ``replan`` when the path ahead changed and ``unreachable`` (once per loss) when there is
-        none. Returns whether a path exists. (``dwa_global`` follows the same path with DWA.)"""
-        p = self.settings
+        """Fuse the sonars into the grid, repair the search (within its budget) and refresh
+        :attr:`path_xy`; emits ``replan`` when the path ahead changed and ``unreachable`` (once per
+        loss) when there is none. Returns whether there is a path to follow now (False also
+        while an unfinished repair leaves nothing safe of the old path). ``dwa_global`` follows
+        the same path with DWA."""
         self.grid.update(obs.pose, obs.ranges, obs.robot.sonar)
         start = self._clamp(self.grid.world_to_cell(obs.pose[:2]))
-        moved = start != self.search.graph.cell(self.search.start)
-        self.search.move_start(start)
-        rows, cols, vals = self._map_changes()
-        changed = self.search.set_costs(rows, cols, vals) if len(rows) else 0
-        self.search.compute()
-        if changed or moved:
-            old = self.cells
-            self.cells = self.search.path()
-            self.path_xy = self._to_world(self.cells, obs.goal)
-            if changed and self.cells and _path_changed(old, self.cells):
-                self.emit("replan", obs.t, changed_cells=int(changed),
-                          cost_m=float(self.search.path_cost * p.cell))
-        if not self.cells:
-            if not self.unreachable:
+        rows, cols, vals = self._map_changes(start)
+        changed, replanned = self.repair.cycle(start, rows, cols, vals)
+        self._refresh_xy()
+        if replanned:
+            self.emit("replan", obs.t, changed_cells=int(changed),
+                      cost_m=float(self.search.path_cost * self.settings.cell))
+        if len(self.path_xy) == 0:
+            if self.repair.complete and not self.unreachable:
                 self.emit("unreachable", obs.t)
-            self.unreachable = True
+                self.unreachable = True
             return False
         self.unreachable = False
         return True
+
+    def act(self, obs: Observation) -> Command:
+        has_path = self.update_path(obs)
+        self.watch.update(obs)
+        p = self.settings
+        if self.recovery.active:
+            phase = self.recovery.phase
+            cmd = self.recovery.step(obs)
+            if cmd is not None:
+                if self.recovery.phase is not phase:
+                    self.emit("recovery", obs.t, phase=str(self.recovery.phase), count=self.recovery.count)
+                return cmd
+            self._replan(obs)
+            has_path = len(self.path_xy) > 0
+        elif p.recovery_after_s > 0 and (
+                (not self.unreachable and self.watch.stalled_for(obs.t) >= p.recovery_after_s)
+                or (self.unreachable and self.no_path_left > 0)):
+            if self.unreachable:
+                self.no_path_left -= 1
+                self.last_reason = StuckReason.NO_PATH
+            else:
+                self.last_reason = self.watch.reason() or (StuckReason.STOPPED if self.blocked else None)
+            self.recovery.start(obs, backup=not self.unreachable)
+            self.emit("recovery", obs.t, phase=str(self.recovery.phase), count=self.recovery.count,
+                      reason=str(self.last_reason) if self.last_reason else "no_progress")
+            cmd = self.recovery.step(obs)
+            if cmd is not None:
+                return cmd
+        if not has_path:
+            return STOP
+        guarded = self._follow(obs)
+        self.blocked = guarded.blocked and guarded.command.v == 0.0
+        return guarded.command
+
+    def _replan(self, obs: Observation) -> None:
+        """End of a recovery: plan from scratch on the re-sensed map, count progress anew."""
+        start = self._clamp(self.grid.world_to_cell(obs.pose[:2]))
+        self.repair.restart(self.cost, start)
+        self.repair.search.compute()  # a recovery has stopped the robot: no budget for this one
+        self.repair.cycle(start)
+        if not self.repair.cells and self.last_reason is StuckReason.NO_PATH:
+            self.emit("recovery", obs.t, phase=str(RecoveryPhase.CLEAR_MAP), count=self.recovery.count)
+            self._clear_map(start)
+        self._refresh_xy()
+        self.unreachable = False
+        self.watch.restart(obs)
+        self.emit("recovery", obs.t, phase=str(RecoveryPhase.REPLAN), count=self.recovery.count,
+                  path=bool(len(self.path_xy)))
+
+    def _clear_map(self, start: tuple[int, int]) -> None:
+        """Forget the map (every cell unknown, so free) and plan anew."""
+        self.grid.reset()
+        self.occupied[:] = False
+        self.dist[:] = self.cap
+        self.cost[:] = 1.0
+        self.repair.restart(self.cost, start)
+        self.repair.search.compute()
+        self.repair.cycle(start)
+
+    def _follow(self, obs: Observation) -> Guarded:
+        """Pure pursuit on the path (straight for the goal in its cell or next to it), checked
+        by :func:`~nav_bench.planners.footprint.guard` against the obstacle distances."""
+        p = self.settings
+        xy, goal = np.asarray(obs.pose[:2], dtype=float), self.goal_xy
+        v = min(p.v_max, obs.robot.v_max)
+        path = self.path_xy[:64]  # pure pursuit looks 0.5 m ahead: the near part is enough
+        if len(self.path_xy) <= 2 and self.path_xy is not None and self.repair.complete:
+            d = float(np.hypot(*(goal - xy)))
+            toward = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
+            wanted = steer(obs, toward, arrival_speed(d, v))
+        else:
+            d = np.hypot(path[:, 0] - xy[0], path[:, 1] - xy[1])
+            far = np.nonzero(d >= p.lookahead)[0]
+            target = path[far[0]] if len(far) else path[-1]
+            toward = math.atan2(target[1] - xy[1], target[0] - xy[0])
+            wanted = pure_pursuit(obs, path, p.lookahead, v, turn_in_place=math.radians(p.turn_in_place_deg))
+        return guard(obs, wanted, toward, self.clearance, self.guard_settings)
+
+    def stuck_reason(self) -> StuckReason | None:
+        """NO_PATH when the goal is unreachable on the map; PINNED or OSCILLATING when the
+        progress watch saw it (now or when the last recovery started); WAITING while an
+        unfinished repair holds the robot; STOPPED when the follower found no safe motion."""
+        if getattr(self, "unreachable", False):
+            return StuckReason.NO_PATH
+        if not hasattr(self, "watch"):
+            return None
+        reason = self.watch.reason() or self.last_reason
+        if reason is not None:
+            return reason
+        if not self.repair.complete and len(self.path_xy) == 0:
+            return StuckReason.WAITING
+        return StuckReason.STOPPED if self.blocked else None
 
     def debug_state(self) -> dict[str, Any]:
         """The occupancy grid (:class:`~nav_bench.interface.GridState`, so plots draw it),
@@ -476,5 +862,7 @@ def _path_changed(old: list[tuple[int, int]], new: list[tuple[int, int]]) -> boo
     where = {c: i for i, c in enumerate(old)}
     for j, cell in enumerate(new):
         if cell in where:
-            return new[j:] != old[where[cell]:]
+            i = where[cell]
+            n = min(len(new) - j, len(old) - i)  # both may be prefixes of their paths
+            return new[j:j + n] != old[i:i + n]
     return True

@@ -51,6 +51,7 @@ counting as obstacles; a D* Lite path change emits ``replan``; no path stops the
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -301,13 +302,18 @@ class DWAGlobal(DStarLite, DWA):
     params: ClassVar[tuple[Param, ...]] = (
         *DWA_PARAMS,
         *GRID_PARAMS,
-        _DSTAR["inflation_margin"],
+        # DWA keeps its own clearance on the roll-outs; the narrow 0.15 m cost margin (D* Lite's
+        # before its follower needed paths down the middle) keeps the global path it follows
+        dataclasses.replace(_DSTAR["inflation_margin"], default=0.15),
         _DSTAR["inflated_cost"],
+        _DSTAR["clearance_cost"],
+        _DSTAR["expansions_per_cycle"],
         Param("lookahead", 1.0, "m", "distance along the global path of DWA's local goal", minimum=0.05),
     )
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
-        DStarLite.reset(self, obs, rng)  # the grid, the search and the first path
+        DWA.reset(self, obs, rng)
+        self.reset_path(obs)  # D* Lite's grid, costs, search and first path
         self.memory = EchoMemory(self.settings.memory_s)
         self.last = Command(0.0, 0.0)
         self.local_goal = np.asarray(obs.goal, dtype=float).copy()

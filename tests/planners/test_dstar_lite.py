@@ -7,12 +7,30 @@ from __future__ import annotations
 
 import itertools
 import math
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 
-from nav_bench.planners.dstar_lite import DStarLite, DStarLiteSearch, astar, cell_costs, disk
-from nav_bench.testing.harness import BoxWorld, run, wall_world
+from nav_bench.episode.loop import run_episode
+from nav_bench.interface import Command, Observation, StuckReason
+from nav_bench.planners.dstar_lite import (
+    DStarLite,
+    DStarLiteSearch,
+    PathRepair,
+    astar,
+    cell_costs,
+    clearance_costs,
+    disk,
+    obstacle_distance,
+)
+from nav_bench.planners.footprint import GuardSettings, guard, rollout
+from nav_bench.specs import PlannerSetSpec
+from nav_bench.testing.harness import BoxWorld, default_robot, run, wall_world
+from nav_bench.world.load import load_world
+
+ROOT = Path(__file__).resolve().parents[2]
 
 INF = math.inf
 
@@ -127,14 +145,18 @@ def test_inflation_costs_cells_within_radius_plus_margin() -> None:
     assert gap > 3.0
 
 
-def test_planner_inflation_in_cells_follows_the_robot_radius() -> None:
+def test_planner_costs_match_a_distance_transform_of_the_whole_map() -> None:
+    # the planner recomputes distances and costs only in windows around flipped cells
     world, start, goal = wall_world()
-    result = run(DStarLite(inflation_margin=0.1, cell=0.1), world, start, goal, time_s=1.0)
+    result = run(DStarLite(inflation_margin=0.3, cell=0.1), world, start, goal, time_s=3.0)
     planner = result.planner
-    assert planner.inflate_cells == pytest.approx((0.2 + 0.1) / 0.1)
-    occ, cost = planner.occupied, planner.cost
-    assert occ.any()  # the wall is in the map after a second of sonar
-    np.testing.assert_array_equal(cost, cell_costs(occ, planner.inflate_cells, planner.p["inflated_cost"]))
+    assert planner.inscribed == pytest.approx(0.2 / 0.1)  # the harness robot: radius 0.2 m
+    occ = planner.occupied
+    assert occ.any()  # the wall is in the map after a few seconds of sonar
+    dist = obstacle_distance(occ, planner.cap)
+    np.testing.assert_allclose(planner.dist, dist)
+    expected = clearance_costs(dist, 2.0, 3.0, 1000.0, 5.0)
+    np.testing.assert_array_equal(planner.cost, expected)
 
 
 @pytest.mark.parametrize("seed", [0, 1])
@@ -168,9 +190,195 @@ def test_reaches_the_goal_of_a_maze() -> None:
 
 
 def test_unreachable_goal_stops_and_says_so() -> None:
+    # the goal inside a closed ring: each loss of the path is met by a recovery (rotate to
+    # re-sense, clear the map when still no path) until the no-path recoveries are used up
     ring = [(5.0, 2.0, 6.6, 2.15), (5.0, 3.45, 6.6, 3.6), (5.0, 2.0, 5.15, 3.6), (6.45, 2.0, 6.6, 3.6)]
     world = BoxWorld.room((9.0, 6.0), ring)
-    result = run(DStarLite(), world, (1.0, 2.8, 0.0), (5.8, 2.8), time_s=60.0)
+    result = run(DStarLite(no_path_recoveries=1), world, (1.0, 2.8, 0.0), (5.8, 2.8), time_s=90.0)
     assert not result.reached and result.collisions == 0
-    assert result.kinds("unreachable") >= 1
+    assert result.kinds("unreachable") >= 2  # lost, recovered (the map cleared), lost for good
+    phases = [e[2]["phase"] for e in result.events if e[0] == "recovery"]
+    assert phases[:3] == ["rotate", "clear_map", "replan"]  # the one no-path recovery allowed
+    assert phases.count("clear_map") == 1
     assert np.all(result.commands[-10:] == 0.0)
+    assert result.planner.stuck_reason() is StuckReason.NO_PATH
+
+
+# --------------------------------------------------------------------------- clearance cost
+def test_clearance_cost_puts_the_path_down_the_middle_of_a_corridor() -> None:
+    # a 0.9 m corridor (rows 1..9 free between walls in rows 0 and 10), 0.1 m cells, robot
+    # radius 0.2 m (2 cells), margin 0.35 m: row 5 is 5 cells from both walls, the cheapest
+    occ = np.zeros((11, 40), dtype=bool)
+    occ[0, :] = occ[10, :] = True
+    dist = obstacle_distance(occ, 6.5)
+    np.testing.assert_allclose(dist[:, 20], [0, 1, 2, 3, 4, 5, 4, 3, 2, 1, 0])
+    cost = clearance_costs(dist, 2.0, 3.5, 1000.0, 5.0)
+    assert cost[0, 0] == INF and cost[2, 0] == 1000.0  # occupied; inscribed (2 cells)
+    assert cost[5, 0] == pytest.approx(1.0 + 4.0 * (0.5 / 3.5) ** 2, abs=1 / 128)
+    assert cost[3, 0] > cost[4, 0] > cost[5, 0] > 1.0
+    _c, path = astar(cost, (3, 1), (7, 38))  # from off-centre to off-centre
+    middle = [rc for rc in path if 6 <= rc[1] <= 33]
+    assert middle == [(5, c) for c in range(6, 34)]
+    # the binary band it replaces leaves the path anywhere inside rows 4..6
+    band = cell_costs(occ, 3.5, 1000.0)
+    assert np.all(band[4:7, 0] == 1.0)
+
+
+# --------------------------------------------------------------------------- time slicing
+@pytest.mark.parametrize("seed", range(8))
+def test_time_sliced_repair_ends_with_the_cost_of_a_star_from_scratch(seed: int) -> None:
+    rng = np.random.default_rng(100 + seed)
+    h, w = (int(v) for v in rng.integers(20, 50, 2))
+    occ = rng.random((h, w)) < 0.15
+    occ[:4, :4] = occ[-4:, -4:] = False
+    start, goal = (1, 1), (h - 2, w - 2)
+
+    def costs(o: np.ndarray) -> np.ndarray:
+        c = clearance_costs(obstacle_distance(o, 5.0), 1.5, 2.5, 50.0, 4.0)
+        c[start] = c[goal] = 1.0
+        return c
+
+    cost = costs(occ)
+    repair = PathRepair(cost, start, goal, budget=7, lethal=50.0)
+    checked = 0
+    for _ in range(12):
+        cells = repair.cells
+        if repair.complete and len(cells) > 3:
+            start = cells[2]
+        new_occ = occ.copy()
+        k = int(rng.integers(1, 6))
+        new_occ[rng.integers(0, h, k), rng.integers(0, w, k)] ^= True
+        new_occ[start] = new_occ[goal] = False
+        new = costs(new_occ)
+        rr, cc = np.nonzero(new != cost)
+        occ, cost = new_occ, new
+        repair.cycle(start, rr, cc, cost[rr, cc])
+        cycles = 1
+        while not repair.complete:  # the budget spreads the repair over several cycles
+            for rc in repair.cells[1:]:
+                assert cost[rc] < 50.0, "an unfinished repair never offers a lethal/inscribed cell"
+            repair.cycle(start)
+            cycles += 1
+        expected, _ = astar(cost, start, goal)
+        if expected == INF:
+            assert repair.cells == []
+            continue
+        assert repair.search.path_cost == pytest.approx(expected, abs=1e-6)
+        assert path_cost(cost, repair.cells) == pytest.approx(expected, abs=1e-6)
+        checked += cycles > 1
+    assert checked >= 3
+
+
+def test_a_robot_moving_along_its_path_only_advances_an_offset() -> None:
+    cost = np.ones((10, 30))
+    repair = PathRepair(cost, (5, 0), (5, 29))
+    first = repair.full_path
+    version = repair.version
+    repair.cycle((5, 3))
+    assert repair.version == version and repair.full_path is first  # no new extraction
+    assert repair.cells == [(5, c) for c in range(3, 30)]
+    repair.cycle((6, 5))  # off the path: the descent rejoins it
+    assert repair.cells[0] == (6, 5) and repair.cells[-1] == (5, 29)
+    assert path_cost(cost, repair.cells) == pytest.approx(astar(cost, (6, 5), (5, 29))[0])
+
+
+# --------------------------------------------------------------------------- follower
+def test_the_guarded_follower_never_drives_into_an_occupied_cell() -> None:
+    # a wall corner: occupied cells along x = 1.0 m (y < 1 m) and y = 1.0 m (x < 1 m)
+    cell = 0.1
+    occ = np.zeros((30, 30), dtype=bool)
+    occ[:10, 10] = True
+    occ[10, :11] = True
+    dist = obstacle_distance(occ, 10.0)
+
+    def clearance(xy: np.ndarray) -> np.ndarray:
+        rc = np.floor(np.asarray(xy) / cell).astype(int)[:, ::-1]
+        inside = np.all((rc >= 0) & (rc < 30), axis=1)
+        rc = np.clip(rc, 0, 29)
+        return np.where(inside, dist[rc[:, 0], rc[:, 1]] * cell, 0.0)
+
+    robot = default_robot()
+    settings = GuardSettings(required=robot.radius + cell / 2, horizon=1.0)
+    rng = np.random.default_rng(3)
+    turned = 0
+    for _ in range(300):
+        pose = np.array([rng.uniform(0.3, 0.75), rng.uniform(0.3, 0.75), rng.uniform(-math.pi, math.pi)])
+        obs = Observation(t=0.0, pose=pose, goal=np.array([2.0, 2.0]), ranges=np.full(6, 3.0),
+                          robot=robot, bounds=(0.0, 0.0, 3.0, 3.0), dt=0.1)
+        wanted = Command(float(rng.uniform(0.05, 0.5)), float(rng.uniform(-2.0, 2.0)))
+        out = guard(obs, wanted, 0.0, clearance, settings).command
+        now = float(clearance(pose[None, :2])[0])
+        along = clearance(rollout(pose, out.v, out.omega, 1.0, 20))
+        floor = min(settings.required, now) - 0.01
+        assert np.all(along >= floor), (pose, wanted, out)
+        turned += out.v == 0.0
+    assert turned > 30  # many wanted commands drove at the corner and were refused
+
+
+def test_an_echo_in_the_footprint_corridor_stops_forward_motion() -> None:
+    robot = default_robot()
+    ranges = np.full(6, 3.0)
+    ranges[2] = ranges[3] = 0.15  # the +-15 deg sonars echo 0.15 m ahead of the rim
+    obs = Observation(t=0.0, pose=np.zeros(3), goal=np.array([5.0, 0.0]), ranges=ranges,
+                      robot=robot, bounds=(-5.0, -5.0, 5.0, 5.0), dt=0.1)
+    out = guard(obs, Command(0.4, 0.0), 0.0, lambda xy: np.full(len(xy), 5.0),
+                GuardSettings(required=0.25)).command
+    assert out.v == 0.0
+
+
+# --------------------------------------------------------------------------- recovery
+def test_a_pinned_robot_starts_its_recovery_within_the_configured_time() -> None:
+    # odometry drives on at 0.3 m/s while the front sonars keep reading the same 0.1 m: the
+    # wheels spin on a corner. No progress counts, so the recovery starts at recovery_after_s.
+    robot = default_robot()
+    planner = DStarLite(recovery_after_s=4.0)
+    ranges = np.full(6, 3.0)
+    ranges[2] = ranges[3] = 0.1
+
+    def obs(t: float) -> Observation:
+        return Observation(t=t, pose=np.array([1.0 + 0.3 * t, 2.0, 0.0]), goal=np.array([9.0, 2.0]),
+                           ranges=ranges, robot=robot, bounds=(0.0, 0.0, 10.0, 4.0), dt=0.1)
+
+    planner.reset(obs(0.0), np.random.default_rng(0))
+    started = None
+    for i in range(1, 80):
+        t = round(0.1 * i, 1)
+        cmd = planner.act(obs(t))
+        events = [e for e in planner.pop_events() if e.kind == "recovery"]
+        if events:
+            started = t
+            assert events[0].data == {"phase": "backup", "count": 1, "reason": "pinned"}
+            assert cmd.v < 0.0 and cmd.omega == 0.0  # backing up
+            break
+    assert started is not None and started <= 4.0 + 0.1
+    assert planner.stuck_reason() is StuckReason.PINNED
+
+
+def test_the_recovery_backs_up_rotates_and_re_plans() -> None:
+    world, start, goal = wall_world()
+    planner = DStarLite(recovery_after_s=1.0, backup_m=0.2, rotate_deg=180.0)
+    # hold the robot still so that no progress is made; the recovery then runs its phases
+    result = run(_Frozen(planner), world, start, goal, time_s=12.0)
+    phases = [e[2]["phase"] for e in result.events if e[0] == "recovery"]
+    assert phases[:3] == ["backup", "rotate", "replan"]
+    assert planner.recovery.count >= 1
+
+
+class _Frozen(DStarLite):
+    """A D* Lite whose follower never moves the robot (for the recovery test)."""
+
+    def __init__(self, inner: DStarLite) -> None:
+        self.__dict__ = inner.__dict__
+
+    def _follow(self, obs: Observation) -> Any:
+        from nav_bench.planners.footprint import Guarded
+
+        return Guarded(Command(0.0, 0.0), True)
+
+
+# --------------------------------------------------------------------------- the paper's labyrinth
+@pytest.mark.slow
+def test_reaches_the_goal_through_the_papers_labyrinth_in_the_simulator() -> None:
+    world = load_world(ROOT / "worlds" / "paper" / "labyrinth.yaml")
+    result = run_episode(world, PlannerSetSpec(planner="dstar_lite"), seed=0)
+    assert result.row.outcome == "reached", result.row

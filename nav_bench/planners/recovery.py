@@ -1,0 +1,189 @@
+"""Noticing that the robot makes no progress, and the recovery users know from ROS navigation.
+
+:class:`ProgressWatch` decides from what a planner sees (odometry and sonar ranges) whether
+the robot has made progress: it got ``progress_m`` farther from where it last made progress,
+or ``progress_m`` closer to the goal than ever before. Odometry alone is not enough: a robot
+pressed on a corner spins its wheels and its odometry drives on. So a cycle counts as *pinned*
+when, over the last ``pinned_s``, odometry moved the robot but the sonar ranges did not change
+as that motion predicts (each echoing sonar should see its range change by the displacement's
+component along its axis); odometry moves made while pinned are not progress.
+
+:class:`Recovery` is the sequence of ROS move_base's recovery behaviours reduced to what six
+sonars allow: back up ``backup_m`` (stopping early when a rear sonar sees something within
+10 cm of the body), rotate in place ``rotate_rad`` to re-sense the surroundings, then hand back
+to the planner, which re-plans from scratch (and, when it still has no path, may clear its map
+like ROS's clear_costmap recovery). Units: m, s, rad.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass
+from enum import Enum
+
+import numpy as np
+
+from nav_bench.interface import Command, Observation, StuckReason
+from nav_bench.planners.follow import echo_mask, limit
+
+
+class RecoveryPhase(str, Enum):
+    """A step of the recovery (the ``phase`` of a ``recovery`` event)."""
+
+    BACKUP = "backup"
+    ROTATE = "rotate"
+    CLEAR_MAP = "clear_map"
+    REPLAN = "replan"
+
+    def __str__(self) -> str:
+        return self.value
+
+
+@dataclass(frozen=True)
+class RecoverySettings:
+    """Attributes:
+        after_s: seconds without progress before a recovery starts.
+        progress_m: displacement (or gain toward the goal) that counts as progress, m.
+        pinned_s: window over which odometry and sonar motion are compared, s.
+        backup_m: how far to back up, m. backup_speed: m/s.
+        rotate_rad: how far to turn in place to re-sense, rad. omega: turn rate, rad/s.
+    """
+
+    after_s: float = 6.0
+    progress_m: float = 0.3
+    pinned_s: float = 1.5
+    backup_m: float = 0.25
+    backup_speed: float = 0.12
+    rotate_rad: float = 2 * math.pi
+    omega: float = 1.0
+
+
+class ProgressWatch:
+    """Time since the robot last made progress, and why not (pinned, oscillating)."""
+
+    def __init__(self, settings: RecoverySettings) -> None:
+        self.s = settings
+        self.anchor = np.zeros(2)
+        self.t_progress = 0.0
+        self.best_goal = math.inf
+        self.travel = 0.0  # odometry path length since the last progress, m
+        self.pinned = False
+        self._history: deque[tuple[float, np.ndarray, np.ndarray]] = deque()
+        self._last_xy: np.ndarray | None = None
+
+    def restart(self, obs: Observation) -> None:
+        """Count from now (after a recovery, or at the start of an episode)."""
+        xy = np.asarray(obs.pose[:2], dtype=float)
+        self.anchor, self.t_progress, self.travel = xy.copy(), obs.t, 0.0
+        self.best_goal = float(np.hypot(*(np.asarray(obs.goal) - xy)))
+        self._history.clear()
+        self._last_xy = xy.copy()
+        self.pinned = False
+
+    def update(self, obs: Observation) -> None:
+        xy = np.asarray(obs.pose[:2], dtype=float)
+        if self._last_xy is None:
+            self.restart(obs)
+        self.travel += float(np.hypot(*(xy - self._last_xy)))
+        self._last_xy = xy.copy()
+        ranges = np.where(echo_mask(obs), np.asarray(obs.ranges, dtype=float), np.nan)
+        self._history.append((obs.t, np.asarray(obs.pose, dtype=float).copy(), ranges))
+        while self._history and self._history[0][0] < obs.t - self.s.pinned_s:
+            self._history.popleft()
+        self.pinned = self._pinned(obs)
+        if self.pinned:
+            return
+        to_goal = float(np.hypot(*(np.asarray(obs.goal) - xy)))
+        if (float(np.hypot(*(xy - self.anchor))) >= self.s.progress_m
+                or to_goal <= self.best_goal - self.s.progress_m):
+            self.anchor, self.t_progress, self.travel = xy.copy(), obs.t, 0.0
+            self.best_goal = min(self.best_goal, to_goal)
+
+    def _pinned(self, obs: Observation) -> bool:
+        """Odometry moved >= 8 cm in the window, but the echoing sonars' ranges changed by less
+        than 30 % of what that displacement predicts along their axes."""
+        t0, pose0, r0 = self._history[0]
+        if obs.t - t0 < 0.5 * self.s.pinned_s:
+            return False
+        pose1, r1 = self._history[-1][1], self._history[-1][2]
+        shift = pose1[:2] - pose0[:2]
+        if float(np.hypot(*shift)) < 0.08:
+            return False
+        sonar = obs.robot.sonar
+        axes = pose0[2] + sonar.angles
+        predicted = -(shift[0] * np.cos(axes) + shift[1] * np.sin(axes))  # range change, m
+        seen = np.isfinite(r0) & np.isfinite(r1) & (np.abs(predicted) > 0.04)
+        if not seen.any():
+            return False
+        return bool(np.abs(r1[seen] - r0[seen]).sum() < 0.3 * np.abs(predicted[seen]).sum())
+
+    def stalled_for(self, t: float) -> float:
+        """Seconds since the last progress."""
+        return t - self.t_progress
+
+    def reason(self) -> StuckReason | None:
+        """PINNED while the sonars contradict odometry, OSCILLATING when the robot travelled
+        more than four times ``progress_m`` without getting that far from where it was."""
+        if self.pinned:
+            return StuckReason.PINNED
+        if self.travel > 4 * self.s.progress_m:
+            return StuckReason.OSCILLATING
+        return None
+
+
+class Recovery:
+    """Back up, rotate in place, then report done (the caller re-plans). One at a time."""
+
+    def __init__(self, settings: RecoverySettings) -> None:
+        self.s = settings
+        self.phase: RecoveryPhase | None = None
+        self.count = 0
+        self._start = np.zeros(3)
+        self._t0 = 0.0
+        self._turned = 0.0
+        self._last_yaw = 0.0
+
+    @property
+    def active(self) -> bool:
+        return self.phase is not None
+
+    def start(self, obs: Observation, backup: bool = True) -> None:
+        """Begin: back up first (``backup``; not when the planner only lost its path), then rotate."""
+        self.count += 1
+        self._enter(RecoveryPhase.BACKUP if backup else RecoveryPhase.ROTATE, obs)
+
+    def _enter(self, phase: RecoveryPhase, obs: Observation) -> None:
+        self.phase = phase
+        self._start = np.asarray(obs.pose, dtype=float).copy()
+        self._t0 = obs.t
+        self._turned = 0.0
+        self._last_yaw = float(obs.pose[2])
+
+    def _rear_blocked(self, obs: Observation) -> bool:
+        """A rear-facing sonar (axis more than 100 deg off the heading) echoes within 10 cm of
+        the body (ranges are measured from the mounts on the body's rim)."""
+        s = obs.robot.sonar
+        rear = np.abs(np.angle(np.exp(1j * s.angles))) > math.radians(100)
+        close = echo_mask(obs) & (np.asarray(obs.ranges) < 0.1)
+        return bool(np.any(rear & close))
+
+    def step(self, obs: Observation) -> Command | None:
+        """This cycle's command; None when the recovery has finished (the caller re-plans)."""
+        s = self.s
+        if self.phase is RecoveryPhase.BACKUP:
+            moved = float(np.hypot(*(np.asarray(obs.pose[:2]) - self._start[:2])))
+            timed_out = obs.t - self._t0 > 2.0 * s.backup_m / max(s.backup_speed, 1e-3) + 1.0
+            if moved >= s.backup_m or timed_out or self._rear_blocked(obs):
+                self._enter(RecoveryPhase.ROTATE, obs)
+            else:
+                return limit(-s.backup_speed, 0.0, obs.robot)
+        if self.phase is RecoveryPhase.ROTATE:
+            yaw = float(obs.pose[2])
+            self._turned += abs(math.remainder(yaw - self._last_yaw, 2 * math.pi))
+            self._last_yaw = yaw
+            timed_out = obs.t - self._t0 > 2.0 * s.rotate_rad / max(s.omega, 1e-3) + 1.0
+            if self._turned < s.rotate_rad and not timed_out:
+                return limit(0.0, s.omega, obs.robot)
+        self.phase = None
+        return None
