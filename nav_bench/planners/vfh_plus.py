@@ -154,6 +154,11 @@ def choose_direction(candidates: list[float], k_target: float, k_heading: float,
     return float(c[int(np.argmin(cost))])
 
 
+def relax_factors(relax_max: float) -> list[float]:
+    """Threshold factors 2, 4, ... up to ``relax_max`` tried in turn when no valley is open."""
+    return [2.0 ** i for i in range(1, int(math.log2(relax_max) + 1e-9) + 1)]
+
+
 def certainty_from_occupancy(values: np.ndarray, c_max: float) -> np.ndarray:
     """VFH certainty (same shape, float 0..``c_max``) of occupancy values 0..100 (50 unknown).
 
@@ -211,6 +216,10 @@ class VFHPlus(Planner):
         Param("mu_previous", 2.0, "-", "cost weight of the difference to the previous choice", minimum=0.0),
         Param("slow_density", 5000.0, "-", "histogram value in the heading at which the speed reaches zero",
               minimum=1e-6),
+        Param("relax_max", 4.0, "-", "with no valley, threshold_high is doubled up to this factor until one "
+              "opens (the robot then creeps at relaxed_speed); 1 turns it off", minimum=1.0),
+        Param("relaxed_speed", 0.1, "m/s", "top speed while driving through a valley opened by relax_factors",
+              minimum=0.0),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the chosen direction is farther off",
               minimum=0.0, maximum=180.0),
     )
@@ -251,9 +260,18 @@ class VFHPlus(Planner):
         self.masked = masked_histogram(self.binary, yaw, phi_r, phi_l)
         k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
         k_heading = self._sector(yaw)
-        cands = candidate_directions(self.masked, k_target, p.s_max)
-        k = choose_direction(cands, k_target, k_heading, self.k_prev, self.n,
-                             (p.mu_goal, p.mu_heading, p.mu_previous))
+        mu = (p.mu_goal, p.mu_heading, p.mu_previous)
+        k = choose_direction(candidate_directions(self.masked, k_target, p.s_max), k_target, k_heading,
+                             self.k_prev, self.n, mu)
+        v_top, slow = min(p.v_max, robot.v_max), p.slow_density
+        for factor in (() if k is not None else relax_factors(p.relax_max)):
+            relaxed = masked_histogram(self.primary > factor * p.threshold_high, yaw, phi_r, phi_l)
+            k = choose_direction(candidate_directions(relaxed, k_target, p.s_max), k_target, k_heading,
+                                 self.k_prev, self.n, mu)
+            if k is not None:
+                self.masked = relaxed
+                v_top, slow = min(v_top, p.relaxed_speed), factor * p.slow_density
+                break
         if k is None:  # no valley: stop and turn on the spot so the front sonars scan
             if not self.blocked:
                 self.emit("blocked", obs.t)
@@ -270,7 +288,7 @@ class VFHPlus(Planner):
             v = 0.0
         else:
             density = float(self.primary[round(k_heading) % self.n])
-            v = min(p.v_max, robot.v_max) * (1.0 - min(density, p.slow_density) / p.slow_density)
+            v = v_top * (1.0 - min(density, slow) / slow)
             v = arrival_speed(d_goal, v) * max(0.0, math.cos(err))
         cmd = limit(v, omega, robot)
         self.v_prev = cmd.v
