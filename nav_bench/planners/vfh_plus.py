@@ -159,6 +159,31 @@ def relax_factors(relax_max: float) -> list[float]:
     return [2.0 ** i for i in range(1, int(math.log2(relax_max) + 1e-9) + 1)]
 
 
+def select_direction(primary: np.ndarray, masked: np.ndarray, phi_r: float, phi_l: float, heading: float,
+                     sectors: tuple[float, float, float], p: Any) -> tuple[float | None, np.ndarray, float]:
+    """(chosen sector or None, the masked histogram it came from, threshold factor used).
+
+    ``sectors`` = (target, heading, previous choice). First the valleys of ``masked`` (the
+    hysteresis thresholds); if there are none, H^p is thresholded at ``f * threshold_high``
+    for f = 2, 4, .. ``relax_max`` (same turning mask) until a valley opens. Why: with the
+    shared grid a wall is marked certain (``c_max``) along its whole length, so a sector sums
+    several wall cells; in a 1 m corridor walls 0.5..1.6 m away then close every sector and
+    VFH+ would turn on the spot for ever although the robot fits (measured on the generated
+    mazes; see the README). The relaxed valley is the least obstructed way out."""
+    mu = (p.mu_goal, p.mu_heading, p.mu_previous)
+    k_target, k_heading, k_prev = sectors
+    n = len(primary)
+    k = choose_direction(candidate_directions(masked, k_target, p.s_max), k_target, k_heading, k_prev, n, mu)
+    if k is not None:
+        return k, masked, 1.0
+    for factor in relax_factors(p.relax_max):
+        relaxed = masked_histogram(primary > factor * p.threshold_high, heading, phi_r, phi_l)
+        k = choose_direction(candidate_directions(relaxed, k_target, p.s_max), k_target, k_heading, k_prev, n, mu)
+        if k is not None:
+            return k, relaxed, factor
+    return None, masked, 1.0
+
+
 def certainty_from_occupancy(values: np.ndarray, c_max: float) -> np.ndarray:
     """VFH certainty (same shape, float 0..``c_max``) of occupancy values 0..100 (50 unknown).
 
@@ -218,7 +243,7 @@ class VFHPlus(Planner):
               minimum=1e-6),
         Param("relax_max", 4.0, "-", "with no valley, threshold_high is doubled up to this factor until one "
               "opens (the robot then creeps at relaxed_speed); 1 turns it off", minimum=1.0),
-        Param("relaxed_speed", 0.1, "m/s", "top speed while driving through a valley opened by relax_factors",
+        Param("relaxed_speed", 0.1, "m/s", "top speed while driving through a valley opened only by relax_max",
               minimum=0.0),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the chosen direction is farther off",
               minimum=0.0, maximum=180.0),
@@ -260,18 +285,11 @@ class VFHPlus(Planner):
         self.masked = masked_histogram(self.binary, yaw, phi_r, phi_l)
         k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
         k_heading = self._sector(yaw)
-        mu = (p.mu_goal, p.mu_heading, p.mu_previous)
-        k = choose_direction(candidate_directions(self.masked, k_target, p.s_max), k_target, k_heading,
-                             self.k_prev, self.n, mu)
+        k, self.masked, factor = select_direction(
+            self.primary, self.masked, phi_r, phi_l, yaw, (k_target, k_heading, self.k_prev), p)
         v_top, slow = min(p.v_max, robot.v_max), p.slow_density
-        for factor in (() if k is not None else relax_factors(p.relax_max)):
-            relaxed = masked_histogram(self.primary > factor * p.threshold_high, yaw, phi_r, phi_l)
-            k = choose_direction(candidate_directions(relaxed, k_target, p.s_max), k_target, k_heading,
-                                 self.k_prev, self.n, mu)
-            if k is not None:
-                self.masked = relaxed
-                v_top, slow = min(v_top, p.relaxed_speed), factor * p.slow_density
-                break
+        if factor > 1.0:  # a valley opened only by relaxed thresholds: creep through it
+            v_top, slow = min(v_top, p.relaxed_speed), factor * p.slow_density
         if k is None:  # no valley: stop and turn on the spot so the front sonars scan
             if not self.blocked:
                 self.emit("blocked", obs.t)
