@@ -20,6 +20,7 @@ from nav_bench.planners.vfh_plus import (
     certainty_from_occupancy,
     choose_direction,
     masked_histogram,
+    near_sectors,
     polar_histogram,
     relax_factors,
     select_direction,
@@ -181,6 +182,21 @@ def test_no_valley_at_the_thresholds_relaxes_them_toward_the_way_out() -> None:
     k, _relaxed, factor = select_direction(hist, masked, -math.pi, math.pi, 0.0, (k_goal, 0.0, 0.0), p)
     assert factor == 1.0 and np.flatnonzero(~masked).tolist() == [22, 23] and k == pytest.approx(22.5)
     assert relax_factors(4.0) == [2.0, 4.0] and relax_factors(1.0) == []
+
+
+def test_relaxed_thresholds_never_open_a_sector_toward_a_cell_within_reach() -> None:
+    """A cell 0.3 m ahead (< r_rs + cell = 0.33 m) closes asin(0.23 / 0.3) = 50.1 deg each
+    side, sectors -10..10, whatever H^p says; a cell 0.5 m away does not count."""
+    cells, cert = np.array([[0.3, 0.0], [0.0, 0.5]]), np.array([15.0, 15.0])
+    near = near_sectors(cells, cert, np.zeros(2), N, 0.23, 0.33, 3.0)
+    assert np.flatnonzero(near).tolist() == [*range(0, 11), *range(62, 72)]
+    assert not near_sectors(cells, np.array([2.0, 15.0]), np.zeros(2), N, 0.23, 0.33, 3.0).any()
+    p = VFHPlus().settings
+    primary = np.full(N, 3000.0)  # every sector over threshold_high, all under 2 x threshold_high
+    k, relaxed, factor = select_direction(primary, np.ones(N, bool), -math.pi, math.pi, 0.0,
+                                          (1.0, 1.0, 1.0), p, near)
+    assert factor == 2.0 and relaxed[near].all() and not relaxed[~near].any()
+    assert k == pytest.approx(19.0)  # wide valley 11..61: 11 + s_max/2, nearer to sector 1 than 61 - 8
 
 
 def test_does_not_stand_still_in_a_1_2_m_corridor() -> None:
