@@ -31,15 +31,17 @@ just behind the goal would otherwise close the goal's sector for good):
 Speed falls with the histogram density in the current heading (``v_max (1 - min(H, h_m)/h_m)``)
 and with the heading error.
 
-**No valley** (every sector above the thresholds): the paper is silent. The shared grid
+**No valley** (every sector above the thresholds): the 1998 paper gives no rule. The shared grid
 marks a wall certain (``c_max``) along its whole length, two cells thick where the 25 deg
 sonar arcs smear it, so beside a corner of a 1 m maze corridor every sector sums several
 wall cells over ``threshold_high`` although the robot fits (tests: the dead-end corner).
 The thresholds then relax (``threshold_high`` x 2, x 4 up to ``relax_max``, same turning
-mask) until a valley opens, and the robot creeps (``relaxed_speed``) along it; the
-least obstructed way, the role Ulrich's own VFH+ code (Player's ``vfh`` driver) gives to
-its speed-dependent cutoffs. Only if even that finds none does the robot stop and turn on
-the spot (``blocked`` event, ``stuck_reason`` NO_PATH) so its front sonars scan for one.
+mask; sectors toward a cell within ``r_rs`` + one cell stay closed) until a valley opens,
+and the robot creeps (``relaxed_speed``) along it: the least obstructed way. The Player
+``vfh`` driver (a VFH+ implementation) does the like with speed: its obstacle cutoffs and
+safety distance are linear in the speed, so a slow robot may come closer to obstacles.
+Only if even that finds none does the robot stop and turn on the spot (``blocked`` event,
+``stuck_reason`` NO_PATH) so its front sonars scan for one.
 
 What VFH+ cannot do, by its method: it has no memory and no look-ahead (VFH*, Ulrich &
 Borenstein 2000, adds it), so a U trap, a comb's closed pocket or a maze's dead end holds
