@@ -29,8 +29,25 @@ just behind the goal would otherwise close the goal's sector for good):
    difference in sectors); the cheapest candidate is the new direction.
 
 Speed falls with the histogram density in the current heading (``v_max (1 - min(H, h_m)/h_m)``)
-and with the heading error. With no valley at all the robot stops and turns on the spot
-(``blocked`` event) so its front sonars scan for one. A reactive method: no ``replan`` events.
+and with the heading error.
+
+**No valley** (every sector above the thresholds): the 1998 paper gives no rule. The shared grid
+marks a wall certain (``c_max``) along its whole length, two cells thick where the 25 deg
+sonar arcs smear it, so beside a corner of a 1 m maze corridor every sector sums several
+wall cells over ``threshold_high`` although the robot fits (tests: the dead-end corner).
+The thresholds then relax (``threshold_high`` x 2, x 4 up to ``relax_max``, same turning
+mask; sectors toward a cell within ``r_rs`` + one cell stay closed) until a valley opens,
+and the robot creeps (``relaxed_speed``) along it: the least obstructed way. The Player
+``vfh`` driver (a VFH+ implementation) does the like with speed: its obstacle cutoffs and
+safety distance are linear in the speed, so a slow robot may come closer to obstacles.
+Only if even that finds none does the robot stop and turn on the spot (``blocked`` event,
+``stuck_reason`` NO_PATH) so its front sonars scan for one.
+
+What VFH+ cannot do, by its method: it has no memory and no look-ahead (VFH*, Ulrich &
+Borenstein 2000, adds it), so a U trap, a comb's closed pocket or a maze's dead end holds
+it in a back-and-forth the episode ends as ``stuck`` (oscillating); and a gap narrower than
+``2 (radius + safety_distance)`` in the map (sonar arcs narrow a gap by a cell a side) is
+never a valley. A reactive method: no ``replan`` events.
 """
 
 from __future__ import annotations
@@ -154,6 +171,49 @@ def choose_direction(candidates: list[float], k_target: float, k_heading: float,
     return float(c[int(np.argmin(cost))])
 
 
+def relax_factors(relax_max: float) -> list[float]:
+    """Threshold factors 2, 4, ... up to ``relax_max`` tried in turn when no valley is open."""
+    return [2.0 ** i for i in range(1, int(math.log2(relax_max) + 1e-9) + 1)]
+
+
+def near_sectors(cells_xy: np.ndarray, certainty: np.ndarray, xy: np.ndarray, n_sectors: int, r_rs: float,
+                 reach: float, min_certainty: float) -> np.ndarray:
+    """(n,) bool: sectors covered by the enlargement of a cell with certainty above
+    ``min_certainty`` closer than ``reach`` m: a contact however the thresholds are set."""
+    close = (np.hypot(*(cells_xy - xy).T) < reach) & (certainty > min_certainty) if len(cells_xy) else []
+    if not np.any(close):
+        return np.zeros(n_sectors, dtype=bool)
+    return polar_histogram(cells_xy[close], np.ones(int(np.sum(close))), xy, n_sectors, r_rs, reach, 0.0) > 0
+
+
+def select_direction(primary: np.ndarray, masked: np.ndarray, phi_r: float, phi_l: float, heading: float,
+                     sectors: tuple[float, float, float], p: Any,
+                     near: np.ndarray | None = None) -> tuple[float | None, np.ndarray, float]:
+    """(chosen sector or None, the masked histogram it came from, threshold factor used).
+
+    ``sectors`` = (target, heading, previous choice). First the valleys of ``masked`` (the
+    hysteresis thresholds); if there are none, H^p is thresholded at ``f * threshold_high``
+    for f = 2, 4, .. ``relax_max`` (same turning mask, and the sectors ``near`` (n,) bool of
+    cells within reach stay blocked) until a valley opens. Why: with the
+    shared grid a wall is marked certain (``c_max``) along its whole length, so a sector sums
+    several wall cells; in a 1 m corridor walls 0.5..1.6 m away then close every sector and
+    VFH+ would turn on the spot for ever although the robot fits (measured on the generated
+    mazes; see the README). The relaxed valley is the least obstructed way out."""
+    mu = (p.mu_goal, p.mu_heading, p.mu_previous)
+    k_target, k_heading, k_prev = sectors
+    n = len(primary)
+    k = choose_direction(candidate_directions(masked, k_target, p.s_max), k_target, k_heading, k_prev, n, mu)
+    if k is not None:
+        return k, masked, 1.0
+    for factor in relax_factors(p.relax_max):
+        blocked = primary > factor * p.threshold_high
+        relaxed = masked_histogram(blocked if near is None else blocked | near, heading, phi_r, phi_l)
+        k = choose_direction(candidate_directions(relaxed, k_target, p.s_max), k_target, k_heading, k_prev, n, mu)
+        if k is not None:
+            return k, relaxed, factor
+    return None, masked, 1.0
+
+
 def certainty_from_occupancy(values: np.ndarray, c_max: float) -> np.ndarray:
     """VFH certainty (same shape, float 0..``c_max``) of occupancy values 0..100 (50 unknown).
 
@@ -185,7 +245,7 @@ def active_cells(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: f
 
 
 class VFHPlus(Planner):
-    """VFH+ (Ulrich & Borenstein 1998) on a HIMM certainty grid built from the sonars."""
+    """VFH+ (Ulrich & Borenstein 1998) on the shared sonar occupancy grid read as certainty."""
 
     name: ClassVar[str] = "vfh_plus"
     reference: ClassVar[str] = ("Ulrich & Borenstein, VFH+: Reliable obstacle avoidance for fast "
@@ -211,6 +271,10 @@ class VFHPlus(Planner):
         Param("mu_previous", 2.0, "-", "cost weight of the difference to the previous choice", minimum=0.0),
         Param("slow_density", 5000.0, "-", "histogram value in the heading at which the speed reaches zero",
               minimum=1e-6),
+        Param("relax_max", 4.0, "-", "with no valley, threshold_high is doubled up to this factor until one "
+              "opens (the robot then creeps at relaxed_speed); 1 turns it off", minimum=1.0),
+        Param("relaxed_speed", 0.1, "m/s", "top speed while driving through a valley opened only by relax_max",
+              minimum=0.0),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the chosen direction is farther off",
               minimum=0.0, maximum=180.0),
     )
@@ -251,9 +315,14 @@ class VFHPlus(Planner):
         self.masked = masked_histogram(self.binary, yaw, phi_r, phi_l)
         k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
         k_heading = self._sector(yaw)
-        cands = candidate_directions(self.masked, k_target, p.s_max)
-        k = choose_direction(cands, k_target, k_heading, self.k_prev, self.n,
-                             (p.mu_goal, p.mu_heading, p.mu_previous))
+        # relaxed thresholds must not open a sector toward a cell within r_rs + one cell
+        near = (near_sectors(cells, cert, xy, self.n, r_rs, r_rs + p.cell, p.mask_certainty)
+                if self.masked.all() else None)
+        k, self.masked, factor = select_direction(
+            self.primary, self.masked, phi_r, phi_l, yaw, (k_target, k_heading, self.k_prev), p, near)
+        v_top, slow = min(p.v_max, robot.v_max), p.slow_density
+        if factor > 1.0:  # a valley opened only by relaxed thresholds: creep through it
+            v_top, slow = min(v_top, p.relaxed_speed), factor * p.slow_density
         if k is None:  # no valley: stop and turn on the spot so the front sonars scan
             if not self.blocked:
                 self.emit("blocked", obs.t)
@@ -270,7 +339,7 @@ class VFHPlus(Planner):
             v = 0.0
         else:
             density = float(self.primary[round(k_heading) % self.n])
-            v = min(p.v_max, robot.v_max) * (1.0 - min(density, p.slow_density) / p.slow_density)
+            v = v_top * (1.0 - min(density, slow) / slow)
             v = arrival_speed(d_goal, v) * max(0.0, math.cos(err))
         cmd = limit(v, omega, robot)
         self.v_prev = cmd.v

@@ -20,10 +20,21 @@ from nav_bench.planners.vfh_plus import (
     certainty_from_occupancy,
     choose_direction,
     masked_histogram,
+    near_sectors,
     polar_histogram,
+    relax_factors,
+    select_direction,
     turning_limits,
 )
-from nav_bench.testing.harness import default_robot, observe, open_room, run, u_world, wall_world
+from nav_bench.testing.harness import (
+    BoxWorld,
+    default_robot,
+    observe,
+    open_room,
+    run,
+    u_world,
+    wall_world,
+)
 
 N = 72  # 5 deg sectors
 
@@ -132,6 +143,86 @@ def test_first_observation_of_a_wall_peaks_straight_ahead() -> None:
     hist = planner.primary
     assert hist.argmax() in (0, 1, 71)
     assert hist[18] == 0.0 and hist[36] == 0.0  # nothing to the left or behind
+
+
+def corridor_corner_grid() -> tuple[GridFrame, np.ndarray]:
+    """A 3 x 3 m map (0.1 m cells) of a maze's dead-end corner as the sonar map draws it, walls
+    two cells thick (a 1 m corridor narrowed to 0.8 m): the corridor y 0.2..1.0 runs from the
+    left wall (x 0..0.2) to its dead end (x 2.0..2.2) under a ceiling (y 1.0..1.2, x 1.0..2.2)
+    and opens upward at x 0.2..1.0. Every other cell is free."""
+    frame = GridFrame.from_bounds((0.0, 0.0, 3.0, 3.0), 0.1)
+    values = np.zeros(frame.shape, dtype=np.uint8)
+    values[0:2, :22] = 100    # floor, y 0..0.2
+    values[:, 0:2] = 100      # left wall, x 0..0.2
+    values[10:12, 10:22] = 100  # the corridor's ceiling, y 1.0..1.2, x 1.0..2.2
+    values[:12, 20:22] = 100  # its dead end, x 2.0..2.2
+    return frame, values
+
+
+def test_no_valley_at_the_thresholds_relaxes_them_toward_the_way_out() -> None:
+    """Under the ceiling's corner (robot 0.15 m below it) every sector sums wall cells above
+    threshold_high = 2500 although the corridor opens to the upper left: threshold_high x 2
+    opens 100..110 deg and the robot takes its centre, 105 deg."""
+    frame, values = corridor_corner_grid()
+    p = VFHPlus().settings
+    k_goal = math.degrees(math.atan2(3.0 - 0.85, 3.0 - 0.95)) / 5.0  # goal at (3, 3): 46.4 deg
+    xy = np.array([0.95, 0.85])
+    cells, cert = active_cells(values, frame, xy, 1.6, 15.0)
+    hist = polar_histogram(cells, cert, xy, N, r_rs=0.23, d_max=1.6, b=4.0)
+    masked = masked_histogram(binary_histogram(hist, np.zeros(N, bool), 1500.0, 2500.0), 0.0, -math.pi, math.pi)
+    assert masked.all()
+    k, relaxed, factor = select_direction(hist, masked, -math.pi, math.pi, 0.0, (k_goal, 0.0, 0.0), p)
+    assert factor == 2.0 and np.flatnonzero(~relaxed).tolist() == [20, 21, 22]
+    assert k == pytest.approx(21.0)
+    # 0.2 m lower, in the open corridor, the configured thresholds find 100..115 deg themselves
+    xy = np.array([0.95, 0.65])
+    cells, cert = active_cells(values, frame, xy, 1.6, 15.0)
+    hist = polar_histogram(cells, cert, xy, N, r_rs=0.23, d_max=1.6, b=4.0)
+    masked = masked_histogram(binary_histogram(hist, np.zeros(N, bool), 1500.0, 2500.0), 0.0, -math.pi, math.pi)
+    k, _relaxed, factor = select_direction(hist, masked, -math.pi, math.pi, 0.0, (k_goal, 0.0, 0.0), p)
+    assert factor == 1.0 and np.flatnonzero(~masked).tolist() == [22, 23] and k == pytest.approx(22.5)
+    assert relax_factors(4.0) == [2.0, 4.0] and relax_factors(1.0) == []
+
+
+def test_relaxed_thresholds_never_open_a_sector_toward_a_cell_within_reach() -> None:
+    """A cell 0.3 m ahead (< r_rs + cell = 0.33 m) closes asin(0.23 / 0.3) = 50.1 deg each
+    side, sectors -10..10, whatever H^p says; a cell 0.5 m away does not count."""
+    cells, cert = np.array([[0.3, 0.0], [0.0, 0.5]]), np.array([15.0, 15.0])
+    near = near_sectors(cells, cert, np.zeros(2), N, 0.23, 0.33, 3.0)
+    assert np.flatnonzero(near).tolist() == [*range(0, 11), *range(62, 72)]
+    assert not near_sectors(cells, np.array([2.0, 15.0]), np.zeros(2), N, 0.23, 0.33, 3.0).any()
+    p = VFHPlus().settings
+    primary = np.full(N, 3000.0)  # every sector over threshold_high, all under 2 x threshold_high
+    k, relaxed, factor = select_direction(primary, np.ones(N, bool), -math.pi, math.pi, 0.0,
+                                          (1.0, 1.0, 1.0), p, near)
+    assert factor == 2.0 and relaxed[near].all() and not relaxed[~near].any()
+    assert k == pytest.approx(19.0)  # wide valley 11..61: 11 + s_max/2, nearer to sector 1 than 61 - 8
+
+
+def test_does_not_stand_still_in_a_1_2_m_corridor() -> None:
+    """An 8 m corridor 1.2 m wide: the robot drives through at speed, never blocked."""
+    world = BoxWorld.room((12.0, 4.0), [(2.0, 0.0, 10.0, 1.4), (2.0, 2.6, 10.0, 4.0)])
+    result = run(VFHPlus(), world, (1.0, 2.0, 0.0), (11.0, 2.0), time_s=60.0, noise_std=0.01,
+                 robot=default_robot(radius=0.18))
+    assert result.reached and result.collisions == 0
+    assert not [e for e in result.events if e[0] == "blocked"]
+    x = result.poses[:, 0]
+    assert np.all(x[50::50] - x[:-50:50][: len(x[50::50])] > 1.0)  # > 1 m every 5 s
+    assert result.time < 30.0
+
+
+@pytest.mark.parametrize("offset", [0.0, 1.0, 1.5])
+def test_passes_a_one_metre_door_off_the_straight_line(offset: float) -> None:
+    """A wall across a 10 x 6 m room with a 1 m door whose centre is ``offset`` m off the
+    start-goal line (kinematic harness, sonar noise)."""
+    c = 3.0 + offset
+    world = BoxWorld.room((10.0, 6.0), [(4.925, 0.0, 5.075, c - 0.5), (4.925, c + 0.5, 5.075, 6.0)])
+    result = run(VFHPlus(), world, (2.0, 2.5, 0.0), (8.0, 2.5), time_s=60.0, noise_std=0.01,
+                 robot=default_robot(radius=0.18))
+    assert result.reached and result.collisions == 0
+    xy = result.poses[:, :2]
+    crossing = xy[np.argmax(xy[:, 0] > 5.0)]
+    assert c - 0.5 < crossing[1] < c + 0.5
 
 
 @pytest.mark.parametrize("world_fn", [open_room, wall_world])
