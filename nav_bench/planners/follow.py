@@ -212,25 +212,61 @@ class WallFollower:
     """
 
     def __init__(self, side: int, distance: float, speed: float, front: float,
-                 k_dist: float = 2.0, k_angle: float = 2.0, corner_cycles: int = 30) -> None:
+                 k_dist: float = 2.0, k_angle: float = 2.0, corner_cycles: int = 30,
+                 memory_s: float = 6.0) -> None:
         if side not in (LEFT, RIGHT):
             raise InputError(f"wall follower side must be LEFT (+1) or RIGHT (-1), got {side!r}")
         self.side, self.distance, self.speed, self.front = side, distance, speed, front
         self.k_dist, self.k_angle = k_dist, k_angle
         self.corner_cycles = corner_cycles
         self._since_wall = corner_cycles + 1  # control cycles since a wall was last fitted
+        # the echoes of the last seconds: a wall or post that falls between the six beams
+        # (beside and behind the robot while it rounds it) is still known
+        self.memory = EchoMemory(memory_s, carve=True, spacing=0.03)
 
     def start(self) -> None:
         """Begin following a new boundary (forget the last wall seen)."""
         self._since_wall = self.corner_cycles + 1
+        self.memory.clear()
+
+    def remembered(self, obs: Observation) -> np.ndarray:
+        """(M, 2) remembered echoes (this cycle's included) in the robot frame, m."""
+        x, y, yaw = (float(v) for v in obs.pose[:3])
+        d = self.memory.points(np.array([x, y]), self.distance + 0.6) - np.array([x, y])
+        c, s = math.cos(yaw), math.sin(yaw)
+        return np.stack([c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]], axis=1)
+
+    def _orbit(self, obs: Observation, near: np.ndarray, v: float) -> Command:
+        """Keep the nearest remembered echo ``near`` (robot frame, m) on the wall side at
+        ``distance``: head along the tangent of the circle round it, corrected toward or away
+        from it by the distance error. Rounding a corner this way circles the corner itself
+        instead of an open-loop arc that loses a thin wall's end or a post."""
+        s = self.side
+        dist = float(np.hypot(*near))
+        bearing = math.atan2(near[1], near[0])
+        err = max(-0.8, min(0.8, 2.0 * (dist - self.distance)))
+        heading = wrap_angle(bearing - s * math.pi / 2 + s * err)
+        omega = 2.5 * heading
+        v = 0.6 * v * max(0.0, math.cos(heading))
+        return limit(v, omega, obs.robot)
+
+    def _ahead_in_memory(self, pts: np.ndarray, half_width: float) -> float:
+        """Distance (m) to the nearest remembered echo in the front corridor (robot frame);
+        catches an obstacle that lies between the two front beams now."""
+        inside = (pts[:, 0] > 0.0) & (pts[:, 0] < self.front) & (np.abs(pts[:, 1]) < half_width)
+        return float(pts[inside, 0].min()) if inside.any() else math.inf
 
     def act(self, obs: Observation) -> Command:
         robot = obs.robot
         s = self.side
         half_width = corridor_half_width(robot)
+        self.memory.add(obs)
+        pts = self.remembered(obs)
         wall = estimate_wall(obs, s, lost=self.distance + 0.6)
         self._since_wall = 0 if wall is not None else self._since_wall + 1
-        if obstacle_ahead(obs, self.front, half_width) < self.front:
+        ahead = min(obstacle_ahead(obs, self.front, half_width),
+                    self._ahead_in_memory(pts, corridor_half_width(robot) - 0.05))
+        if ahead < self.front:
             # Turn away from the wall (a concave corner) unless the way on is on the wall side:
             # rounding a corner that just ended there, or its diagonal sonar sees open space
             # the other diagonal does not (the robot came round a convex corner too wide and
@@ -245,7 +281,11 @@ class WallFollower:
             turn = s if (rounding or open_side) and toward >= away else -s
             return limit(0.0, turn * 0.6 * robot.omega_max, robot)
         v = min(self.speed, robot.v_max)
-        if wall is None:  # the wall ended: round its end
+        if wall is None:  # no wall in the side beams: round the remembered end, if any
+            side_pts = pts[s * pts[:, 1] > 0.0]
+            if len(side_pts):
+                near = side_pts[int(np.argmin(np.hypot(side_pts[:, 0], side_pts[:, 1])))]
+                return self._orbit(obs, near, v)
             radius = max(self.distance, 1e-3)
             return limit(0.6 * v, s * 0.6 * v / radius, robot)
         target = self.distance

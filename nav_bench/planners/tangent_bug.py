@@ -103,7 +103,8 @@ class TangentBug(Planner):
               minimum=0.0),
         Param("memory_s", 0.0, "s", "how long sonar echoes are kept to build the range function; "
               "0 = until a later reading sees through them", minimum=0.0),
-        Param("clearance", 0.15, "m", "extra clearance added to the robot radius when growing echoes",
+        Param("clearance", 0.10, "m", "extra clearance added to the robot radius when growing echoes "
+              "(a gap wider than 2 (radius + clearance) stays open)",
               minimum=0.0),
         Param("directions", 120, "-", "number of directions of the local range function", minimum=8),
         Param("h_epsilon", 0.05, "m", "the heuristic must beat its minimum by this to count as decreasing",
