@@ -182,3 +182,19 @@ def test_wall_follower_turns_into_a_corridor_round_a_corner_on_its_wall_side() -
     assert result.collisions == 0
     assert xy[:, 0].max() > 3.0  # along the horizontal leg
     assert xy[np.argmax(xy[:, 0] > 1.5):, 1].min() > 3.35  # and stayed in it
+
+
+def test_wall_follower_circles_a_thin_post_that_falls_between_the_beams() -> None:
+    """A 0.15 m square post: beside the robot it is seen by one beam at most, and behind it by
+    none (no sonar between -90 deg and the back). The follower keeps it on its right by the
+    remembered echoes: two laps round it, never farther than 0.9 m, no contact."""
+    post = (4.925, 4.925, 5.075, 5.075)
+    world = BoxWorld.room((10.0, 10.0), [post])
+    result = run(_FollowOnly(), world, (4.45, 5.0, math.pi / 2), (9.5, 0.5), time_s=60.0,
+                 noise_std=0.01)
+    xy = result.poses[:, :2]
+    assert result.collisions == 0
+    d = _box_distance(xy, post)
+    assert d.max() < 0.9 and d.min() > 0.2
+    bearing = np.unwrap(np.arctan2(xy[:, 1] - 5.0, xy[:, 0] - 5.0))
+    assert bearing[0] - bearing[-1] > 4 * math.pi  # clockwise (post on the right), two laps
