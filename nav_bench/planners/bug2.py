@@ -42,6 +42,7 @@ from nav_bench.planners.follow import (
     corridor_half_width,
     free_along,
     obstacle_ahead,
+    points_ahead,
     steer,
 )
 
@@ -117,7 +118,10 @@ class Bug2(Planner):
         half_width = corridor_half_width(obs.robot)
         cmd = STOP
         if self.mode == GO:
-            ahead = obstacle_ahead(obs, p.hit_distance, half_width)
+            # an obstacle between the two front beams was on one of them a moment ago
+            ahead = min(obstacle_ahead(obs, p.hit_distance, half_width),
+                        points_ahead(self.memory.points(xy, p.hit_distance + 0.1), obs,
+                                     p.hit_distance, obs.robot.radius))
             facing = abs(math.remainder(heading - float(obs.pose[2]), 2 * math.pi)) < math.radians(30)
             if ahead < p.hit_distance and facing and ahead < to_goal:
                 self.mode, self.hit, self.hit_goal_distance = FOLLOW, xy.copy(), to_goal

@@ -60,6 +60,21 @@ def obstacle_ahead(obs: Observation, distance: float, half_width: float) -> floa
     return float(p[inside, 0].min()) if inside.any() else math.inf
 
 
+def points_ahead(points: np.ndarray, obs: Observation, distance: float, half_width: float) -> float:
+    """Like :func:`obstacle_ahead` for remembered world ``points`` (M, 2): distance (m, along
+    the heading from the robot centre) to the nearest one in the corridor ``0 < x < distance``,
+    ``|y| < half_width`` of the robot frame; ``inf`` if none. A post that is between the two
+    front beams now was usually on one of them a second ago."""
+    if len(points) == 0:
+        return math.inf
+    x, y, yaw = (float(v) for v in obs.pose[:3])
+    d = points - np.array([x, y])
+    c, s = math.cos(yaw), math.sin(yaw)
+    fwd, lat = d[:, 0] * c + d[:, 1] * s, -d[:, 0] * s + d[:, 1] * c
+    inside = (fwd > 0.0) & (fwd < distance) & (np.abs(lat) < half_width)
+    return float(fwd[inside].min()) if inside.any() else math.inf
+
+
 def free_along(points: np.ndarray, origin: np.ndarray, heading: float, length: float,
                half_width: float) -> bool:
     """True if none of the world ``points`` (M, 2) lies in the rectangle starting at ``origin``
@@ -250,12 +265,6 @@ class WallFollower:
         v = 0.6 * v * max(0.0, math.cos(heading))
         return limit(v, omega, obs.robot)
 
-    def _ahead_in_memory(self, pts: np.ndarray, half_width: float) -> float:
-        """Distance (m) to the nearest remembered echo in the front corridor (robot frame);
-        catches an obstacle that lies between the two front beams now."""
-        inside = (pts[:, 0] > 0.0) & (pts[:, 0] < self.front) & (np.abs(pts[:, 1]) < half_width)
-        return float(pts[inside, 0].min()) if inside.any() else math.inf
-
     def act(self, obs: Observation) -> Command:
         robot = obs.robot
         s = self.side
@@ -265,7 +274,7 @@ class WallFollower:
         wall = estimate_wall(obs, s, lost=self.distance + 0.6)
         self._since_wall = 0 if wall is not None else self._since_wall + 1
         ahead = min(obstacle_ahead(obs, self.front, half_width),
-                    self._ahead_in_memory(pts, corridor_half_width(robot) - 0.05))
+                    points_ahead(self.memory.points(), obs, self.front, robot.radius))
         if ahead < self.front:
             # Turn away from the wall (a concave corner) unless the way on is on the wall side:
             # rounding a corner that just ended there, or its diagonal sonar sees open space

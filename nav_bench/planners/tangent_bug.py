@@ -61,6 +61,7 @@ from nav_bench.planners.follow import (
     echo_mask,
     estimate_wall,
     obstacle_ahead,
+    points_ahead,
     steer,
 )
 
@@ -217,7 +218,9 @@ class TangentBug(Planner):
             return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
         if self.mode == UNREACHABLE:
             return STOP
-        ahead = obstacle_ahead(obs, p.front_distance, corridor_half_width(obs.robot))
+        ahead = min(obstacle_ahead(obs, p.front_distance, corridor_half_width(obs.robot)),
+                    points_ahead(self.memory.points(xy, p.front_distance + 0.1), obs,
+                                 p.front_distance, obs.robot.radius))
         if free:
             self._endpoint = None
             self.h_min, self.stall = min(self.h_min, d_goal), 0
