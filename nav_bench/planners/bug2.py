@@ -5,8 +5,9 @@ automaton moving amidst unknown obstacles of arbitrary shape", Algorithmica 2:40
 
 The m-line is the segment from the start (the pose at :meth:`Bug2.reset`) to the goal.
 
-* **Motion to goal**: turn toward the goal and drive. An echo in the corridor ahead closer
-  than ``hit_distance`` is a *hit point* H; the robot starts following the obstacle.
+* **Motion to goal**: turn toward the goal and drive. An echo (of this cycle, or of the last
+  ``memory_s`` s: a post between the front beams) in the corridor ahead closer than
+  ``hit_distance`` is a *hit point* H; the robot starts following the obstacle.
 * **Boundary following**: keep the obstacle on ``wall_side`` at ``wall_distance`` with the
   side and diagonal sonars (:class:`~nav_bench.planners.follow.WallFollower`).
 * **Leave**: when the robot crosses the m-line (or is within ``mline_tolerance`` of it) at

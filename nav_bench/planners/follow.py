@@ -214,8 +214,12 @@ class WallFollower:
     wall side's diagonal sonar sees open space the other does not (:func:`diagonal_ranges`);
     (2) a wall fitted on the followed side (:func:`estimate_wall`) -> steer to make it
     parallel at ``distance`` (or in the middle of a corridor narrower than twice that, so the
-    far wall does not push the robot into the near one); (3) no wall on that side (its end has passed) -> arc toward
-    that side with radius ``distance`` to round the corner.
+    far wall does not push the robot into the near one); (3) no wall in that side's beams ->
+    circle the nearest echo of the last ``memory_s`` s on that side (within ``distance + 0.6``
+    m) at ``distance``: a corner or post that has fallen between the beams or behind the
+    last one is still followed; with no such echo, arc toward that side with radius
+    ``distance``. "Ahead" in rule (1) also counts remembered echoes in the robot-wide
+    corridor (:func:`points_ahead`), so a post between the two front beams is not driven into.
 
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
@@ -224,6 +228,7 @@ class WallFollower:
         front: clearance ahead (m from the centre) below which the robot turns on the spot.
         k_dist: turn rate per metre of distance error, rad/s/m. k_angle: per rad of wall angle, 1/s.
         corner_cycles: how long (control cycles) after losing the wall rule (1) turns toward it.
+        memory_s: how long the follower remembers echoes (world frame from odometry, carved), s.
     """
 
     def __init__(self, side: int, distance: float, speed: float, front: float,

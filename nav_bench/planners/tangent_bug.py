@@ -20,8 +20,11 @@ less than TangentBug assumes, which is the point of comparing it on this robot.
   The robot heads for the endpoint minimising the heuristic distance
   ``h = |x - O| + |O - goal|``. When ``h`` has not improved on its minimum by ``h_epsilon``
   for ``stall_cycles`` cycles in which the robot moved (it *stops decreasing*), boundary following starts in the
-  direction of that endpoint. (Also, as a safety reflex, when an echo lies in the corridor
-  ahead closer than ``front_distance``: the sparse sonars can miss an obstacle between cones.)
+  direction of that endpoint. (Also, as a safety reflex, when an echo, of this cycle or remembered, lies in the
+  corridor ahead closer than ``front_distance``: the sparse sonars miss an obstacle between
+  cones.) Echoes are grown by ``radius + clearance`` (0.30 m by default), so a gap wider than
+  0.6 m stays open; with the former 0.35 m growth a cone echo placed a few cm into a 0.8 m
+  door closed it.
 * **Boundary following**: approach the boundary (head for the nearest remembered echo until
   a wall is fitted on the chosen side within ``wall_distance + 0.1`` m or something is
   closer ahead than ``front_distance``), then keep it at
