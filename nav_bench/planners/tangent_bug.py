@@ -22,8 +22,8 @@ less than TangentBug assumes, which is the point of comparing it on this robot.
   for ``stall_cycles`` cycles in which the robot moved (it *stops decreasing*), boundary following starts in the
   direction of that endpoint. (Also, as a safety reflex, when an echo, of this cycle or remembered, lies in the
   corridor ahead closer than ``front_distance``: the sparse sonars miss an obstacle between
-  cones.) Echoes are grown by ``radius + clearance`` (0.30 m by default), so a gap wider than
-  0.6 m stays open; with the former 0.35 m growth a cone echo placed a few cm into a 0.8 m
+  cones.) Echoes are grown by ``radius + clearance`` (0.28 m on the 0.18 m diffbot), so a gap
+  wider than 0.56 m stays open; with the former 0.35 m growth a cone echo placed a few cm into a 0.8 m
   door closed it.
 * **Boundary following**: approach the boundary (head for the nearest remembered echo until
   a wall is fitted on the chosen side within ``wall_distance + 0.1`` m or something is
