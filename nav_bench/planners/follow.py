@@ -240,6 +240,7 @@ class WallFollower:
         self.k_dist, self.k_angle = k_dist, k_angle
         self.corner_cycles = corner_cycles
         self._since_wall = corner_cycles + 1  # control cycles since a wall was last fitted
+        self._acquired = False  # a wall has been fitted on the followed side since start()
         # the echoes of the last seconds: a wall or post that falls between the six beams
         # (beside and behind the robot while it rounds it) is still known
         self.memory = EchoMemory(memory_s, carve=True, spacing=0.03)
@@ -247,6 +248,7 @@ class WallFollower:
     def start(self) -> None:
         """Begin following a new boundary (forget the last wall seen)."""
         self._since_wall = self.corner_cycles + 1
+        self._acquired = False  # a wall has been fitted on the followed side since start()
         self.memory.clear()
 
     def remembered(self, obs: Observation) -> np.ndarray:
@@ -278,6 +280,7 @@ class WallFollower:
         pts = self.remembered(obs)
         wall = estimate_wall(obs, s, lost=self.distance + 0.6)
         self._since_wall = 0 if wall is not None else self._since_wall + 1
+        self._acquired |= wall is not None
         ahead = min(obstacle_ahead(obs, self.front, half_width),
                     points_ahead(self.memory.points(), obs, self.front, robot.radius))
         if ahead < self.front:
@@ -292,7 +295,11 @@ class WallFollower:
             # ahead leans to the far side (in clutter a lone diagonal gap is too narrow)
             open_side = (toward > self.front + 0.3 and toward > away + 0.2
                          and front_toward > front_away + 0.05)
-            turn = s if (rounding or open_side) and toward >= away else -s
+            # before any wall was on the followed side the obstacle ahead is the one just hit:
+            # turn away to put it on that side (turning toward the open side there left the
+            # wall on the other side and the robot arced round in open space)
+            toward_ok = self._acquired and (rounding or open_side) and toward >= away
+            turn = s if toward_ok else -s
             return limit(0.0, turn * 0.6 * robot.omega_max, robot)
         v = min(self.speed, robot.v_max)
         if wall is None:  # no wall in the side beams: round the remembered end, if any
