@@ -198,3 +198,18 @@ def test_wall_follower_circles_a_thin_post_that_falls_between_the_beams() -> Non
     assert d.max() < 0.9 and d.min() > 0.2
     bearing = np.unwrap(np.arctan2(xy[:, 1] - 5.0, xy[:, 0] - 5.0))
     assert bearing[0] - bearing[-1] > 4 * math.pi  # clockwise (post on the right), two laps
+
+
+def test_wall_follower_turns_away_from_a_wall_hit_at_an_angle() -> None:
+    """Hit at 45 deg, 0.5 m below a long wall (paper/labyrinth's first hit): the follower must
+    turn away from its wall side to put the wall on its right and go west along it. The
+    previous rule saw the open space on the right diagonal, turned right, left the wall on
+    its left and circled in the open (a lap: 'unreachable')."""
+    wall = (0.0, 2.45, 8.0, 2.55)
+    world = BoxWorld.room((10.0, 10.0), [wall])
+    result = run(_FollowOnly(), world, (5.0, 1.95 - 0.05, math.pi / 4), (9.5, 9.5), time_s=20.0,
+                 noise_std=0.01)
+    xy = result.poses[:, :2]
+    assert result.collisions == 0
+    assert _box_distance(xy, wall).max() < 0.9
+    assert xy[-1, 0] < 2.5  # 2.5 m west along the wall (0.4 m/s, turning first)
