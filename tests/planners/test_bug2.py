@@ -13,7 +13,15 @@ import pytest
 from nav_bench.interface import StuckReason
 from nav_bench.planners.base import Planner
 from nav_bench.planners.bug2 import FOLLOW, GO, UNREACHABLE, Bug2
-from nav_bench.planners.follow import LEFT, RIGHT, LoopDetector, WallFollower, estimate_wall
+from nav_bench.planners.follow import (
+    LEFT,
+    RIGHT,
+    LoopDetector,
+    WallFollower,
+    estimate_wall,
+    obstacle_ahead,
+    points_ahead,
+)
 from nav_bench.testing.harness import BoxWorld, default_robot, observe, run, u_world, wall_world
 
 
@@ -213,3 +221,15 @@ def test_wall_follower_turns_away_from_a_wall_hit_at_an_angle() -> None:
     assert result.collisions == 0
     assert _box_distance(xy, wall).max() < 0.9
     assert xy[-1, 0] < 2.5  # 2.5 m west along the wall (0.4 m/s, turning first)
+
+
+def test_a_remembered_post_between_the_front_beams_is_ahead() -> None:
+    """A 4 cm post 0.33 m ahead on the axis: seen from their mounts on the body edge it lies
+    18 deg off each front sonar's axis, outside both 25 deg cones, so this cycle's echoes
+    miss it; its echo remembered from farther back finds it."""
+    robot = default_robot()
+    world = BoxWorld.room((10.0, 10.0), [(5.33, 4.98, 5.37, 5.02)])
+    obs = observe(world, np.array([5.0, 5.0, 0.0]), np.array([9.0, 5.0]), robot, 0.0, 0.1)
+    assert obstacle_ahead(obs, 0.5, robot.radius) == math.inf
+    remembered = np.array([[5.33, 5.0], [5.2, 5.6]])  # the post's face, and a wall 0.6 m aside
+    assert points_ahead(remembered, obs, 0.5, robot.radius) == pytest.approx(0.33)
