@@ -60,6 +60,21 @@ def obstacle_ahead(obs: Observation, distance: float, half_width: float) -> floa
     return float(p[inside, 0].min()) if inside.any() else math.inf
 
 
+def points_ahead(points: np.ndarray, obs: Observation, distance: float, half_width: float) -> float:
+    """Like :func:`obstacle_ahead` for remembered world ``points`` (M, 2): distance (m, along
+    the heading from the robot centre) to the nearest one in the corridor ``0 < x < distance``,
+    ``|y| < half_width`` of the robot frame; ``inf`` if none. A post that is between the two
+    front beams now was usually on one of them a second ago."""
+    if len(points) == 0:
+        return math.inf
+    x, y, yaw = (float(v) for v in obs.pose[:3])
+    d = points - np.array([x, y])
+    c, s = math.cos(yaw), math.sin(yaw)
+    fwd, lat = d[:, 0] * c + d[:, 1] * s, -d[:, 0] * s + d[:, 1] * c
+    inside = (fwd > 0.0) & (fwd < distance) & (np.abs(lat) < half_width)
+    return float(fwd[inside].min()) if inside.any() else math.inf
+
+
 def free_along(points: np.ndarray, origin: np.ndarray, heading: float, length: float,
                half_width: float) -> bool:
     """True if none of the world ``points`` (M, 2) lies in the rectangle starting at ``origin``
@@ -199,8 +214,12 @@ class WallFollower:
     wall side's diagonal sonar sees open space the other does not (:func:`diagonal_ranges`);
     (2) a wall fitted on the followed side (:func:`estimate_wall`) -> steer to make it
     parallel at ``distance`` (or in the middle of a corridor narrower than twice that, so the
-    far wall does not push the robot into the near one); (3) no wall on that side (its end has passed) -> arc toward
-    that side with radius ``distance`` to round the corner.
+    far wall does not push the robot into the near one); (3) no wall in that side's beams ->
+    circle the nearest echo of the last ``memory_s`` s on that side (within ``distance + 0.6``
+    m) at ``distance``: a corner or post that has fallen between the beams or behind the
+    last one is still followed; with no such echo, arc toward that side with radius
+    ``distance``. "Ahead" in rule (1) also counts remembered echoes in the robot-wide
+    corridor (:func:`points_ahead`), so a post between the two front beams is not driven into.
 
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
@@ -209,28 +228,62 @@ class WallFollower:
         front: clearance ahead (m from the centre) below which the robot turns on the spot.
         k_dist: turn rate per metre of distance error, rad/s/m. k_angle: per rad of wall angle, 1/s.
         corner_cycles: how long (control cycles) after losing the wall rule (1) turns toward it.
+        memory_s: how long the follower remembers echoes (world frame from odometry, carved), s.
     """
 
     def __init__(self, side: int, distance: float, speed: float, front: float,
-                 k_dist: float = 2.0, k_angle: float = 2.0, corner_cycles: int = 30) -> None:
+                 k_dist: float = 2.0, k_angle: float = 2.0, corner_cycles: int = 30,
+                 memory_s: float = 6.0) -> None:
         if side not in (LEFT, RIGHT):
             raise InputError(f"wall follower side must be LEFT (+1) or RIGHT (-1), got {side!r}")
         self.side, self.distance, self.speed, self.front = side, distance, speed, front
         self.k_dist, self.k_angle = k_dist, k_angle
         self.corner_cycles = corner_cycles
         self._since_wall = corner_cycles + 1  # control cycles since a wall was last fitted
+        self._acquired = False  # a wall has been fitted on the followed side since start()
+        # the echoes of the last seconds: a wall or post that falls between the six beams
+        # (beside and behind the robot while it rounds it) is still known
+        self.memory = EchoMemory(memory_s, carve=True, spacing=0.03)
 
     def start(self) -> None:
         """Begin following a new boundary (forget the last wall seen)."""
         self._since_wall = self.corner_cycles + 1
+        self._acquired = False  # a wall has been fitted on the followed side since start()
+        self.memory.clear()
+
+    def remembered(self, obs: Observation) -> np.ndarray:
+        """(M, 2) remembered echoes (this cycle's included) in the robot frame, m."""
+        x, y, yaw = (float(v) for v in obs.pose[:3])
+        d = self.memory.points(np.array([x, y]), self.distance + 0.6) - np.array([x, y])
+        c, s = math.cos(yaw), math.sin(yaw)
+        return np.stack([c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]], axis=1)
+
+    def _orbit(self, obs: Observation, near: np.ndarray, v: float) -> Command:
+        """Keep the nearest remembered echo ``near`` (robot frame, m) on the wall side at
+        ``distance``: head along the tangent of the circle round it, corrected toward or away
+        from it by the distance error. Rounding a corner this way circles the corner itself
+        instead of an open-loop arc that loses a thin wall's end or a post."""
+        s = self.side
+        dist = float(np.hypot(*near))
+        bearing = math.atan2(near[1], near[0])
+        err = max(-0.8, min(0.8, 2.0 * (dist - self.distance)))
+        heading = wrap_angle(bearing - s * math.pi / 2 + s * err)
+        omega = 2.5 * heading
+        v = 0.6 * v * max(0.0, math.cos(heading))
+        return limit(v, omega, obs.robot)
 
     def act(self, obs: Observation) -> Command:
         robot = obs.robot
         s = self.side
         half_width = corridor_half_width(robot)
+        self.memory.add(obs)
+        pts = self.remembered(obs)
         wall = estimate_wall(obs, s, lost=self.distance + 0.6)
         self._since_wall = 0 if wall is not None else self._since_wall + 1
-        if obstacle_ahead(obs, self.front, half_width) < self.front:
+        self._acquired |= wall is not None
+        ahead = min(obstacle_ahead(obs, self.front, half_width),
+                    points_ahead(self.memory.points(), obs, self.front, robot.radius))
+        if ahead < self.front:
             # Turn away from the wall (a concave corner) unless the way on is on the wall side:
             # rounding a corner that just ended there, or its diagonal sonar sees open space
             # the other diagonal does not (the robot came round a convex corner too wide and
@@ -242,10 +295,18 @@ class WallFollower:
             # ahead leans to the far side (in clutter a lone diagonal gap is too narrow)
             open_side = (toward > self.front + 0.3 and toward > away + 0.2
                          and front_toward > front_away + 0.05)
-            turn = s if (rounding or open_side) and toward >= away else -s
+            # before any wall was on the followed side the obstacle ahead is the one just hit:
+            # turn away to put it on that side (turning toward the open side there left the
+            # wall on the other side and the robot arced round in open space)
+            toward_ok = self._acquired and (rounding or open_side) and toward >= away
+            turn = s if toward_ok else -s
             return limit(0.0, turn * 0.6 * robot.omega_max, robot)
         v = min(self.speed, robot.v_max)
-        if wall is None:  # the wall ended: round its end
+        if wall is None:  # no wall in the side beams: round the remembered end, if any
+            side_pts = pts[s * pts[:, 1] > 0.0]
+            if len(side_pts):
+                near = side_pts[int(np.argmin(np.hypot(side_pts[:, 0], side_pts[:, 1])))]
+                return self._orbit(obs, near, v)
             radius = max(self.distance, 1e-3)
             return limit(0.6 * v, s * 0.6 * v / radius, robot)
         target = self.distance

@@ -13,7 +13,15 @@ import pytest
 from nav_bench.interface import StuckReason
 from nav_bench.planners.base import Planner
 from nav_bench.planners.bug2 import FOLLOW, GO, UNREACHABLE, Bug2
-from nav_bench.planners.follow import LEFT, RIGHT, LoopDetector, WallFollower, estimate_wall
+from nav_bench.planners.follow import (
+    LEFT,
+    RIGHT,
+    LoopDetector,
+    WallFollower,
+    estimate_wall,
+    obstacle_ahead,
+    points_ahead,
+)
 from nav_bench.testing.harness import BoxWorld, default_robot, observe, run, u_world, wall_world
 
 
@@ -182,3 +190,46 @@ def test_wall_follower_turns_into_a_corridor_round_a_corner_on_its_wall_side() -
     assert result.collisions == 0
     assert xy[:, 0].max() > 3.0  # along the horizontal leg
     assert xy[np.argmax(xy[:, 0] > 1.5):, 1].min() > 3.35  # and stayed in it
+
+
+def test_wall_follower_circles_a_thin_post_that_falls_between_the_beams() -> None:
+    """A 0.15 m square post: beside the robot it is seen by one beam at most, and behind it by
+    none (no sonar between -90 deg and the back). The follower keeps it on its right by the
+    remembered echoes: two laps round it, never farther than 0.9 m, no contact."""
+    post = (4.925, 4.925, 5.075, 5.075)
+    world = BoxWorld.room((10.0, 10.0), [post])
+    result = run(_FollowOnly(), world, (4.45, 5.0, math.pi / 2), (9.5, 0.5), time_s=60.0,
+                 noise_std=0.01)
+    xy = result.poses[:, :2]
+    assert result.collisions == 0
+    d = _box_distance(xy, post)
+    assert d.max() < 0.9 and d.min() > 0.2
+    bearing = np.unwrap(np.arctan2(xy[:, 1] - 5.0, xy[:, 0] - 5.0))
+    assert bearing[0] - bearing[-1] > 4 * math.pi  # clockwise (post on the right), two laps
+
+
+def test_wall_follower_turns_away_from_a_wall_hit_at_an_angle() -> None:
+    """Hit at 45 deg, 0.5 m below a long wall (paper/labyrinth's first hit): the follower must
+    turn away from its wall side to put the wall on its right and go west along it. The
+    previous rule saw the open space on the right diagonal, turned right, left the wall on
+    its left and circled in the open (a lap: 'unreachable')."""
+    wall = (0.0, 2.45, 8.0, 2.55)
+    world = BoxWorld.room((10.0, 10.0), [wall])
+    result = run(_FollowOnly(), world, (5.0, 1.95 - 0.05, math.pi / 4), (9.5, 9.5), time_s=20.0,
+                 noise_std=0.01)
+    xy = result.poses[:, :2]
+    assert result.collisions == 0
+    assert _box_distance(xy, wall).max() < 0.9
+    assert xy[-1, 0] < 2.5  # 2.5 m west along the wall (0.4 m/s, turning first)
+
+
+def test_a_remembered_post_between_the_front_beams_is_ahead() -> None:
+    """A 4 cm post 0.33 m ahead on the axis: seen from their mounts on the body edge it lies
+    18 deg off each front sonar's axis, outside both 25 deg cones, so this cycle's echoes
+    miss it; its echo remembered from farther back finds it."""
+    robot = default_robot()
+    world = BoxWorld.room((10.0, 10.0), [(5.33, 4.98, 5.37, 5.02)])
+    obs = observe(world, np.array([5.0, 5.0, 0.0]), np.array([9.0, 5.0]), robot, 0.0, 0.1)
+    assert obstacle_ahead(obs, 0.5, robot.radius) == math.inf
+    remembered = np.array([[5.33, 5.0], [5.2, 5.6]])  # the post's face, and a wall 0.6 m aside
+    assert points_ahead(remembered, obs, 0.5, robot.radius) == pytest.approx(0.33)

@@ -124,3 +124,32 @@ def test_says_no_path_once_the_goal_is_unreachable() -> None:
     assert planner.stuck_reason() is None
     planner.mode = UNREACHABLE
     assert planner.stuck_reason() is StuckReason.NO_PATH
+
+
+def _door_world(width: float) -> BoxWorld:
+    """10 x 6 m room split at x = 5 by a 0.1 m wall with a door of ``width`` m centred on y = 3."""
+    return BoxWorld.room((10.0, 6.0), [(4.95, 0.0, 5.05, 3.0 - width / 2),
+                                       (4.95, 3.0 + width / 2, 5.05, 6.0)])
+
+
+def test_echo_growth_leaves_a_door_wider_than_the_grown_robot_open() -> None:
+    """Jamb echoes 0.8 m apart, seen from 1 m in front: grown by radius + clearance
+    (0.2 + 0.1 m) they leave +-5 deg round the door's axis free; grown by the former 0.35 m
+    only +-2 deg, which a cone echo placed a few cm into the doorway closes."""
+    jambs = np.array([[5.0, 2.6], [5.0, 3.4]])
+    xy, ahead = np.array([4.0, 3.0]), np.radians(np.arange(-5.0, 6.0, 1.0))
+    grow = default_robot().radius + TangentBug().settings.clearance
+    assert grow == pytest.approx(0.30)
+    assert np.isinf(range_function(jambs, xy, grow, ahead)).all()  # -5..5 deg free
+    rho = range_function(jambs, xy, 0.35, ahead)
+    assert np.degrees(ahead[np.isinf(rho)]) == pytest.approx([-2.0, -1.0, 0.0, 1.0, 2.0])
+
+
+@pytest.mark.parametrize("width", [0.8, 0.9])
+def test_drives_through_a_door_wider_than_the_grown_robot(width: float) -> None:
+    """Head-on through a 0.8 m and a 0.9 m door (the only way): with 0.15 m clearance
+    (0.35 m growth) the 0.8 m door closed and the robot gave up at the wall (x = 4.77 m)."""
+    result = run(TangentBug(), _door_world(width), (1.0, 3.0, 0.0), (9.0, 3.0), time_s=90.0,
+                 seed=1, noise_std=0.01)
+    assert result.reached and result.collisions == 0
+    assert result.path_length < 8.5  # straight through (7.8 m to the goal's tolerance)
