@@ -334,18 +334,19 @@ class OccupancyGrid(OnGridFrame):
         keep = np.flatnonzero(touched)
         if len(keep) == 0:
             return None
-        dr, dc = dr[keep], dc[keep]
-        idx = (r0 * width + c0) + (dr * width + dc)
-        # a key per cell, unique within the disc's reach of the robot's cell (_independent_runs)
-        side = 2 * span + 1
-        local = (dr + span) * side + (dc + span)
+        # >= 0: the cell's row is r0 - span or above
+        local = (dr * width + dc).take(keep) + (span * width + c0)
+        idx = local + (r0 - span) * width
         weight = None
         if self.model == "elfes":
             # angle from the axis on the half-cell-widened cone (module docstring)
-            theta = np.arctan2(np.maximum(lateral[keep] - cell / 2, 0.0), along[keep])
-            weight = np.maximum(1.0 - np.square(theta / half_cone), 0.0)
-        return _ConeCells(idx=idx, sonar=sonar_of[keep], local=local, local_size=side * side,
-                          occ=occ[keep], weight=weight, count=count)
+            off_axis = lateral.take(keep)
+            off_axis -= cell / 2
+            theta = np.arctan2(np.maximum(off_axis, 0.0, out=off_axis), along.take(keep))
+            theta /= half_cone
+            weight = np.maximum(1.0 - np.square(theta, out=theta), 0.0)
+        return _ConeCells(idx=idx, sonar=sonar_of.take(keep), local=local, local_size=(2 * span + 1) * width,
+                          occ=occ.take(keep), weight=weight, count=count)
 
     def _independent_runs(self, cells: _ConeCells) -> list[slice]:
         """Consecutive runs of sonars whose cones share no cell, as slices of ``cells``' entries.
@@ -385,7 +386,8 @@ class OccupancyGrid(OnGridFrame):
                 share = np.divide(self.echo_share * blame, total, out=np.zeros(len(arc)),
                                   where=total > 0)  # no weight on the arc: no evidence
                 delta[arc] = self.l_occ * np.minimum(1.0, share)
-        fused = np.minimum(np.maximum(lo + delta, self.l_min), self.l_max)
+        fused = np.add(lo, delta, out=delta)
+        np.minimum(np.maximum(fused, self.l_min, out=fused), self.l_max, out=fused)
         flat_lo[idx] = fused
         return fused
 
@@ -397,7 +399,8 @@ class _ConeCells:
     Attributes:
         idx: (N,) flat grid index of each entry's cell.
         sonar: (N,) its sonar (non-decreasing).
-        local: (N,) a key of its cell, unique among the reading's cells, in ``[0, local_size)``.
+        local: (N,) its cell's flat index from the first row the reading can reach, in
+            ``[0, local_size)``.
         occ: (N,) True on the echo arc, False where seen through.
         weight: (N,) Elfes' angular weight ``w`` ("elfes"), None ("band").
         count: K, the sonars of the reading.
