@@ -48,10 +48,10 @@ always has ``w`` near 1.
 
 Speed (``benchmarks/bench_sonar_map.py``): one update touches only the cells of a disc around
 the robot, precomputed once as cell offsets sorted by distance. The cones' candidate cells
-come from tables built once per grid, one per 0.5 deg of axis direction (a 25 deg cone is
-~1/14 of the disc), cut to each sonar's reach; all sonars' candidates then go through the
-exact cone and range tests together, the Konolige normalisation is computed on the arc's
-cells only. Fusing all sonars at once equals fusing them one after the other as long as no
+(a 25 deg cone is ~1/14 of the disc) come from tables kept per grid, one per 0.5 deg of axis
+direction, each built on first use, cut to each sonar's reach; all sonars' candidates then go
+through the exact cone and range tests together, and the Konolige normalisation is computed
+on the arc's cells only. Fusing all sonars at once equals fusing them one after the other as long as no
 cell lies in two cones; a sonar whose cone shares a cell with an earlier one is fused after
 it. There is no Python loop over cells, only small ones over the sonars.
 """
@@ -124,13 +124,13 @@ class OccupancyGrid(OnGridFrame):
         self._disc_rc = np.zeros((0, 2), dtype=np.int64)
         self._disc_xy = np.zeros((0, 2))
         self._disc_d = np.zeros(0)
-        self._disc_bearing = np.zeros((0, 2))
+        self._disc_bearing = self._disc_bearing_x = self._disc_bearing_y = np.zeros(0)
         self._owner = np.zeros(0, dtype=np.int64)  # scratch of _independent_runs
         self._disc_x = self._disc_y = np.zeros(0)
         self._disc_r = self._disc_c = np.zeros(0, dtype=np.int64)
         self._disc_span = 0
-        self._table_key = self._table_cells = np.zeros(0, dtype=np.int64)
-        self._table_start: list[int] = []
+        self._tables: dict[int, np.ndarray] = {}  # _cone_candidates' tables, by axis bin
+        self._sector_cos = np.zeros(0)  # the tables' sector test, per disc cell
         self._tables_key: tuple[float, int] | None = None  # (half cone, disc size) of the tables
         self._ring_of: SonarInfo | None = None  # the sonars _ring describes
         self._ring = _SonarRing((), (), 0.0)
@@ -179,6 +179,8 @@ class OccupancyGrid(OnGridFrame):
         with np.errstate(invalid="ignore", divide="ignore"):
             bearing = self._disc_xy / self._disc_d[:, None]  # unit (cos, sin) of each offset
         self._disc_bearing = np.nan_to_num(bearing, nan=0.0)  # the centre cell: (0, 0)
+        self._disc_bearing_x = np.ascontiguousarray(self._disc_bearing[:, 0])
+        self._disc_bearing_y = np.ascontiguousarray(self._disc_bearing[:, 1])
         self._disc_radius = radius
         self._tables_key = None
 
@@ -199,42 +201,33 @@ class OccupancyGrid(OnGridFrame):
         return np.where(angle >= math.pi, -2.0, np.cos(np.minimum(angle, math.pi)) - 1e-9)
 
     def _cone_candidates(self, axes: list[float], within: np.ndarray,
-                         half_cone: float) -> tuple[np.ndarray, np.ndarray]:
+                         half_cone: float) -> tuple[np.ndarray, list[int]]:
         """The disc cells that can lie in the cones of sonars pointing at ``axes`` (rad) and
         sitting within half a cell's diagonal of the disc's centre, among each one's first
         ``within`` (K,) disc cells: a superset of each cone's cells.
 
         Returns ``(disc, per_sonar)``: (m,) disc cells, sonar by sonar, each sonar's ascending
-        (so by distance); (K,) how many are each sonar's. Read from a table per ``_AXIS_BIN`` of
-        axis direction (the sector test widened by half a bin), all built on the first call.
+        (so by distance); how many are each sonar's. Read from a table per ``_AXIS_BIN`` of axis
+        direction (the sector test widened by half a bin), each built when first needed (a
+        robot turns a few bins per cycle; all 720 at once would cost ~25 ms in one cycle).
         """
         key = (half_cone, len(self._disc_d))
         if self._tables_key != key:
-            self._build_tables(half_cone)
+            self._tables.clear()
             self._tables_key = key
-        n = len(self._disc_d)
-        bins = [round(axis / _AXIS_BIN) % _AXIS_BINS for axis in axes]
-        # the tables' cells as one ascending key bin * n + cell: one search finds every end
-        ends = np.searchsorted(self._table_key, np.array(bins) * n + within).tolist()
-        starts = [self._table_start[b] for b in bins]
-        parts = [self._table_cells[a:b] for a, b in zip(starts, ends, strict=True)]
-        return np.concatenate(parts), np.subtract(ends, starts)
-
-    def _build_tables(self, half_cone: float) -> None:
-        """Every axis bin's candidate cells (see :meth:`_cone_candidates`), packed: bin ``b``'s
-        are ``_table_cells[_table_start[b]:]`` while ``_table_key`` is below ``(b + 1) n``."""
-        n = len(self._disc_d)
-        sector = self._sector_threshold(half_cone + _AXIS_BIN / 2 + 1e-9,
-                                        self.frame.cell * math.sqrt(0.5))
-        centre = _AXIS_BIN * np.arange(_AXIS_BINS)
-        axes = np.stack([np.cos(centre), np.sin(centre)], axis=1)  # (bins, 2)
-        keys = []
-        for lo in range(0, _AXIS_BINS, 60):  # a few bins at a time: (60, n) booleans
-            b, cells = np.nonzero(axes[lo:lo + 60] @ self._disc_bearing.T >= sector)
-            keys.append((b + lo) * n + cells)
-        self._table_key = np.concatenate(keys)
-        self._table_cells = self._table_key % n
-        self._table_start = np.searchsorted(self._table_key, n * np.arange(_AXIS_BINS)).tolist()
+            self._sector_cos = self._sector_threshold(half_cone + _AXIS_BIN / 2 + 1e-9,
+                                                      self.frame.cell * math.sqrt(0.5))
+        parts = []
+        for axis, n in zip(axes, within.tolist(), strict=True):
+            b = round(axis / _AXIS_BIN) % _AXIS_BINS
+            table = self._tables.get(b)
+            if table is None:
+                centre = b * _AXIS_BIN
+                table = np.flatnonzero(math.cos(centre) * self._disc_bearing_x
+                                       + math.sin(centre) * self._disc_bearing_y >= self._sector_cos)
+                self._tables[b] = table
+            parts.append(table[:table.searchsorted(n)])
+        return np.concatenate(parts), [len(part) for part in parts]
 
     def update(self, pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo) -> None:
         """Fuse one set of sonar readings taken at ``pose``.
