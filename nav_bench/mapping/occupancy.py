@@ -46,15 +46,21 @@ half-cell widening keeps narrow cones at short range from slipping between cell 
 the same widened cone (the lateral distance less half a cell), so the cell holding the axis
 always has ``w`` near 1.
 
-Speed: one update touches only the cells of a disc around the robot, precomputed once as
-cell offsets sorted by distance; each sonar takes the prefix within its reach and works on
-the cells of its cone only. There is no Python loop over cells, only over the sonars
-(``benchmarks/bench_sonar_map.py``).
+Speed (``benchmarks/bench_sonar_map.py``): one update touches only the cells of a disc around
+the robot, precomputed once as cell offsets sorted by distance. The cones' candidate cells
+(a 25 deg cone is ~1/14 of the disc) come from tables kept per grid, one per 0.5 deg of axis
+direction, each built on first use, cut to each sonar's reach; all sonars' candidates then go
+through the exact cone and range tests together, and the Konolige normalisation is computed
+on the arc's cells only. Fusing all sonars at once equals fusing them one after the other as long as no
+cell lies in two cones; a sonar whose cone shares a cell with an earlier one is fused after
+it. There is no Python loop over cells, only small ones over the sonars.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -64,6 +70,8 @@ from nav_bench.mapping.grid import Bounds, GridFrame, OnGridFrame
 
 UNKNOWN = 50  # value of a cell never observed (log-odds 0)
 SONAR_MODELS = ("elfes", "band")  # inverse sensor models, see the module docstring
+_AXIS_BINS = 720  # sonar axis directions with their own table of candidate cells (0.5 deg)
+_AXIS_BIN = 2 * math.pi / _AXIS_BINS  # rad
 
 
 def log_odds_to_values(log_odds: np.ndarray) -> np.ndarray:
@@ -116,12 +124,16 @@ class OccupancyGrid(OnGridFrame):
         self._disc_rc = np.zeros((0, 2), dtype=np.int64)
         self._disc_xy = np.zeros((0, 2))
         self._disc_d = np.zeros(0)
-        self._disc_bearing = np.zeros((0, 2))
+        self._disc_bearing = self._disc_bearing_x = self._disc_bearing_y = np.zeros(0)
+        self._owner = np.zeros(0, dtype=np.int64)  # scratch of _independent_runs
         self._disc_x = self._disc_y = np.zeros(0)
+        self._disc_r = self._disc_c = np.zeros(0, dtype=np.int64)
         self._disc_span = 0
-        self._disc_flat = np.zeros(0, dtype=np.int64)
-        self._sector_key: tuple[float, float, int] | None = None
-        self._sector_cos = np.zeros(0)
+        self._tables: dict[int, np.ndarray] = {}  # _cone_candidates' tables, by axis bin
+        self._sector_cos = np.zeros(0)  # the tables' sector test, per disc cell
+        self._tables_key: tuple[float, int] | None = None  # (half cone, disc size) of the tables
+        self._ring_of: SonarInfo | None = None  # the sonars _ring describes
+        self._ring = _SonarRing((), (), 0.0)
 
     # -- state -------------------------------------------------------------------------------
     def values(self, copy: bool = True) -> np.ndarray:
@@ -158,16 +170,19 @@ class OccupancyGrid(OnGridFrame):
         order = np.argsort(d[keep], kind="stable")
         self._disc_rc = np.stack([dr.ravel()[keep], dc.ravel()[keep]], axis=1)[order]
         self._disc_xy = self._disc_rc[:, ::-1].astype(float) * cell  # (dx, dy) in m
+        self._disc_r = np.ascontiguousarray(self._disc_rc[:, 0])
+        self._disc_c = np.ascontiguousarray(self._disc_rc[:, 1])
         self._disc_x = np.ascontiguousarray(self._disc_xy[:, 0])
         self._disc_y = np.ascontiguousarray(self._disc_xy[:, 1])
         self._disc_span = n  # cells from the centre to the disc's edge, along a row or column
-        self._disc_flat = self._disc_rc[:, 0] * self.frame.cols + self._disc_rc[:, 1]  # flat offsets
         self._disc_d = d[keep][order]
         with np.errstate(invalid="ignore", divide="ignore"):
             bearing = self._disc_xy / self._disc_d[:, None]  # unit (cos, sin) of each offset
         self._disc_bearing = np.nan_to_num(bearing, nan=0.0)  # the centre cell: (0, 0)
+        self._disc_bearing_x = np.ascontiguousarray(self._disc_bearing[:, 0])
+        self._disc_bearing_y = np.ascontiguousarray(self._disc_bearing[:, 1])
         self._disc_radius = radius
-        self._sector_key = None
+        self._tables_key = None
 
     def _sector_threshold(self, half_cone: float, slack: float) -> np.ndarray:
         """(n,) per disc cell: the smallest cos(bearing - axis) a cell can have and still lie
@@ -178,19 +193,47 @@ class OccupancyGrid(OnGridFrame):
         most ``asin(cell / (2 (d - slack)))``: a cheap sector test on precomputed bearings keeps
         the exact cone test to the few cells that can pass it.
         """
-        key = (half_cone, slack, len(self._disc_d))
-        if self._sector_key != key:
-            d = self._disc_d
-            with np.errstate(divide="ignore", invalid="ignore"):
-                shift = np.arcsin(np.minimum(1.0, slack / d))
-                widen = np.arcsin(np.minimum(1.0, self.frame.cell / (2 * np.maximum(d - slack, 1e-12))))
-            angle = np.nan_to_num(half_cone + shift + widen, nan=math.pi)
-            self._sector_cos = np.where(angle >= math.pi, -2.0, np.cos(np.minimum(angle, math.pi)) - 1e-9)
-            self._sector_key = key
-        return self._sector_cos
+        d = self._disc_d
+        with np.errstate(divide="ignore", invalid="ignore"):
+            shift = np.arcsin(np.minimum(1.0, slack / d))
+            widen = np.arcsin(np.minimum(1.0, self.frame.cell / (2 * np.maximum(d - slack, 1e-12))))
+        angle = np.nan_to_num(half_cone + shift + widen, nan=math.pi)
+        return np.where(angle >= math.pi, -2.0, np.cos(np.minimum(angle, math.pi)) - 1e-9)
+
+    def _cone_candidates(self, axes: list[float], within: np.ndarray,
+                         half_cone: float) -> tuple[np.ndarray, list[int]]:
+        """The disc cells that can lie in the cones of sonars pointing at ``axes`` (rad) and
+        sitting within half a cell's diagonal of the disc's centre, among each one's first
+        ``within`` (K,) disc cells: a superset of each cone's cells.
+
+        Returns ``(disc, per_sonar)``: (m,) disc cells, sonar by sonar, each sonar's ascending
+        (so by distance); how many are each sonar's. Read from a table per ``_AXIS_BIN`` of axis
+        direction (the sector test widened by half a bin), each built when first needed (a
+        robot turns a few bins per cycle; all 720 at once would cost ~25 ms in one cycle).
+        """
+        key = (half_cone, len(self._disc_d))
+        if self._tables_key != key:
+            self._tables.clear()
+            self._tables_key = key
+            self._sector_cos = self._sector_threshold(half_cone + _AXIS_BIN / 2 + 1e-9,
+                                                      self.frame.cell * math.sqrt(0.5))
+        parts = []
+        for axis, n in zip(axes, within.tolist(), strict=True):
+            b = round(axis / _AXIS_BIN) % _AXIS_BINS
+            table = self._tables.get(b)
+            if table is None:
+                centre = b * _AXIS_BIN
+                table = np.flatnonzero(math.cos(centre) * self._disc_bearing_x
+                                       + math.sin(centre) * self._disc_bearing_y >= self._sector_cos)
+                self._tables[b] = table
+            parts.append(table[:table.searchsorted(n)])
+        return np.concatenate(parts), [len(part) for part in parts]
 
     def update(self, pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo) -> None:
         """Fuse one set of sonar readings taken at ``pose``.
+
+        The result is that of fusing the sonars one after the other, in ``sonar`` order (a cell
+        in two cones gets the first sonar's update, then the second's on top of it).
 
         Args:
             pose: (3,) robot pose ``x, y, yaw`` (m, m, rad) in the world frame.
@@ -198,73 +241,184 @@ class OccupancyGrid(OnGridFrame):
                 means no echo.
             sonar: mount angles/offsets, cone and range limits of the K sonars.
         """
+        cells = self._cone_cells(pose, np.asarray(ranges, dtype=float).reshape(-1), sonar)
+        if cells is None:
+            return
+        flat_lo = self._log_odds.reshape(-1)
+        runs = self._independent_runs(cells)
+        for run in runs:
+            fused = self._fuse(flat_lo, cells, run)
+        if len(runs) > 1:  # a cell may have changed in two runs: read its final log-odds
+            fused = flat_lo[cells.idx]
+        self._values.reshape(-1)[cells.idx] = log_odds_to_values(fused)
+
+    def _cone_cells(self, pose: np.ndarray, ranges: np.ndarray,
+                    sonar: SonarInfo) -> _ConeCells | None:
+        """The cells every sonar of this reading updates, all sonars at once (None: no cell).
+
+        Per sonar ``k`` (in order) its cells come in the disc's order (by distance); a cell in two
+        cones appears once per cone. Candidates come from the table of the sonar's axis
+        direction (:meth:`_cone_candidates`) around the sonar's own cell, cut to its reach; the
+        exact cone and range tests on cell centres then decide (module docstring), with the
+        same floating-point operations on the same offsets from the robot's cell as always.
+        """
         x, y, yaw = (float(v) for v in pose[:3])
-        ranges = np.asarray(ranges, dtype=float).reshape(-1)
-        cell, half_t = self.frame.cell, self.hit_thickness / 2
-        mount_reach = float(np.max(np.hypot(sonar.offsets[:, 0], sonar.offsets[:, 1]), initial=0.0))
-        self._ensure_disc(sonar.max_range + half_t + mount_reach + cell)
-        r0, c0 = (int(v) for v in self.frame.world_to_cell((x, y)))
-        cx0, cy0 = (float(v) for v in self.frame.cell_center(r0, c0))
+        frame = self.frame
+        cell, half_t = frame.cell, self.hit_thickness / 2
+        if sonar is not self._ring_of:
+            self._ring = _SonarRing.of(sonar)
+            self._ring_of = sonar
+        ring = self._ring
+        self._ensure_disc(sonar.max_range + half_t + ring.mount_reach + cell)
+        # the robot's cell and its centre: GridFrame.world_to_cell and cell_center in scalars
+        r0, c0 = math.floor((y - frame.ymin) / cell), math.floor((x - frame.xmin) / cell)
+        cx0, cy0 = frame.xmin + (c0 + 0.5) * cell, frame.ymin + (r0 + 0.5) * cell
         half_cone = sonar.cone / 2
         tan_half = math.tan(half_cone)
-        # a sonar lies within mount_reach of the robot, the robot within half a diagonal of cell0's centre
-        sector = self._sector_threshold(half_cone, mount_reach + cell * math.sqrt(0.5))
         cos_y, sin_y = math.cos(yaw), math.sin(yaw)
-        height, width = self.frame.shape
-        span = self._disc_span  # the whole disc on the grid: no cell needs a bounds check
-        inside = span <= r0 < height - span and span <= c0 < width - span
-        flat_lo = self._log_odds.reshape(-1)
-        elfes = self.model == "elfes"
-        updated = []
-        for k in range(len(ranges)):
-            ox, oy = sonar.offsets[k]
+        # per sonar scalars with Python's math (the same values the cell tests always used):
+        # axis (ux, uy), the robot cell's centre less the sonar's position (m), the echo range
+        # (-inf: no echo, no arc cell), the range below which a cone cell is seen through
+        per_sonar: list[tuple[float, ...]] = []
+        home: list[tuple[int, int]] = []  # the sonar's cell (row, col) less the robot's
+        reach: list[float] = []  # disc radius around the sonar's cell holding its cells, m
+        no_echo_free = math.nextafter(sonar.max_range, math.inf)  # "dist <= max_range"
+        for (ox, oy), angle, r in zip(ring.offsets, ring.angles, ranges.tolist(), strict=True):
             sx = x + cos_y * ox - sin_y * oy  # sonar position, world frame
             sy = y + sin_y * ox + cos_y * oy
-            a = yaw + sonar.angles[k]
-            ux, uy = math.cos(a), math.sin(a)
-            r = float(ranges[k])
+            a = yaw + angle
             echo = math.isfinite(r) and r < sonar.max_range
-            reach = r + half_t if echo else sonar.max_range
-            # centres within `reach` of the sonar lie within reach + |sonar - cell0| of cell0's centre
-            n = int(np.searchsorted(self._disc_d, reach + math.hypot(sx - cx0, sy - cy0), "right"))
-            near = np.flatnonzero(self._disc_bearing[:n] @ np.array([ux, uy]) >= sector[:n])
-            dx = self._disc_x[near] + (cx0 - sx)
-            dy = self._disc_y[near] + (cy0 - sy)
-            along = dx * ux + dy * uy
-            lateral = np.abs(dy * ux - dx * uy)
-            cone = (along > 0) & (lateral <= along * tan_half + cell / 2)
-            dist = np.hypot(dx, dy)
-            if echo:
-                occ = cone & (np.abs(dist - r) <= half_t)
-                touched = occ | (cone & (dist < r - half_t))
-            else:
-                occ = None
-                touched = cone & (dist <= sonar.max_range)
-            if inside:
-                idx = (r0 * width + c0) + self._disc_flat[near[touched]]  # unique within one sonar
-            else:
-                rows = r0 + self._disc_rc[near, 0]
-                cols = c0 + self._disc_rc[near, 1]
-                touched &= (rows >= 0) & (rows < height) & (cols >= 0) & (cols < width)
-                idx = rows[touched] * width + cols[touched]
-            lo = flat_lo[idx]
-            occ = occ[touched] if occ is not None else None
-            if elfes:
-                # angle from the axis on the half-cell-widened cone (module docstring)
-                theta = np.arctan2(np.maximum(lateral[touched] - cell / 2, 0.0), along[touched])
-                w = np.maximum(1.0 - np.square(theta / half_cone), 0.0)
-                delta = w * self.l_free
-                if occ is not None and occ.any():
-                    blame = w[occ] / (1.0 + np.exp(-lo[occ]))  # w_i * p_i
-                    total = float(blame.sum())
-                    delta[occ] = (self.l_occ * np.minimum(1.0, self.echo_share * blame / total)
-                                  if total > 0 else 0.0)
-            elif occ is not None:
-                delta = np.where(occ, self.l_occ, self.l_free)
-            else:
-                delta = self.l_free
-            flat_lo[idx] = np.minimum(np.maximum(lo + delta, self.l_min), self.l_max)
-            updated.append(idx)
-        if updated:
-            idx = np.concatenate(updated)
-            self._values.reshape(-1)[idx] = log_odds_to_values(flat_lo[idx])
+            per_sonar.append((math.cos(a), math.sin(a), cx0 - sx, cy0 - sy,
+                              r if echo else -math.inf, r - half_t if echo else no_echo_free))
+            rk, ck = math.floor((sy - frame.ymin) / cell), math.floor((sx - frame.xmin) / cell)
+            home.append((rk - r0, ck - c0))
+            # centres within reach of the sonar lie within reach + |sonar - its cell's centre|
+            # of its cell's centre
+            reach.append((r + half_t if echo else sonar.max_range) + math.hypot(
+                frame.xmin + (ck + 0.5) * cell - sx, frame.ymin + (rk + 0.5) * cell - sy))
+        count = len(per_sonar)
+        scalars = np.array(per_sonar).reshape(count, 6)
+        prefix = np.searchsorted(self._disc_d, reach, "right")  # (K,) disc cells within reach
+        # candidates are picked around each sonar's own cell, whose centre is within half a
+        # diagonal of the sonar
+        disc, per_row = self._cone_candidates([yaw + angle for angle in ring.angles], prefix,
+                                              half_cone)
+        # each candidate's sonar and that sonar's scalars, as contiguous rows
+        sonar_of = np.repeat(np.arange(count), per_row)
+        ux, uy, shift_x, shift_y, occ_r, free_below = np.repeat(scalars.T, per_row, axis=1)
+        home_r, home_c = np.repeat(np.array(home, dtype=np.int64).reshape(count, 2).T, per_row,
+                                   axis=1)
+        # offsets from the robot's cell: the same (row, col) -> (dx, dy) arithmetic as the disc's
+        dr = self._disc_r.take(disc) + home_r
+        dc = self._disc_c.take(disc) + home_c
+        dx = dc * cell + shift_x
+        dy = dr * cell + shift_y
+        along = dx * ux + dy * uy
+        lateral = np.abs(dy * ux - dx * uy)
+        dist = np.hypot(dx, dy)
+        touched = (along > 0) & (lateral <= along * tan_half + cell / 2)
+        occ = touched & (np.abs(dist - occ_r) <= half_t)
+        touched &= occ | (dist < free_below)
+        height, width = frame.shape
+        # cells from (r0, c0) to the farthest candidate along a row or a column
+        span = self._disc_span + max((max(abs(i), abs(j)) for i, j in home), default=0)
+        if not (span <= r0 < height - span and span <= c0 < width - span):
+            touched &= (dr >= -r0) & (dr < height - r0) & (dc >= -c0) & (dc < width - c0)
+        keep = np.flatnonzero(touched)
+        if len(keep) == 0:
+            return None
+        # >= 0: the cell's row is r0 - span or above
+        local = (dr * width + dc).take(keep) + (span * width + c0)
+        idx = local + (r0 - span) * width
+        weight = None
+        if self.model == "elfes":
+            # angle from the axis on the half-cell-widened cone (module docstring)
+            off_axis = lateral.take(keep)
+            off_axis -= cell / 2
+            theta = np.arctan2(np.maximum(off_axis, 0.0, out=off_axis), along.take(keep))
+            theta /= half_cone
+            weight = np.maximum(1.0 - np.square(theta, out=theta), 0.0)
+        return _ConeCells(idx=idx, sonar=sonar_of.take(keep), local=local, local_size=(2 * span + 1) * width,
+                          occ=occ.take(keep), weight=weight, count=count)
+
+    def _independent_runs(self, cells: _ConeCells) -> list[slice]:
+        """Consecutive runs of sonars whose cones share no cell, as slices of ``cells``' entries.
+
+        Fusing a run at once equals fusing its sonars one after the other; a sonar that shares a
+        cell with an earlier one starts a new run, so the earlier update is in place before its
+        own (its echo's share depends on the cells' current occupancy)."""
+        disc, sonar_of = cells.local, cells.sonar
+        if len(self._owner) < cells.local_size:
+            self._owner = np.zeros(cells.local_size, dtype=np.int64)
+        owner = self._owner
+        owner[disc] = sonar_of
+        if np.array_equal(owner[disc], sonar_of):  # every cell in one cone only: one run
+            return [slice(0, len(disc))]
+        order = np.argsort(disc, kind="stable")  # entries of one cell: adjacent, in sonar order
+        shared = disc[order[1:]] == disc[order[:-1]]
+        later = np.unique(sonar_of[order[1:]][shared])  # sonars sharing a cell with an earlier one
+        bounds = [0, *np.searchsorted(sonar_of, later).tolist(), len(disc)]
+        return [slice(a, b) for a, b in itertools.pairwise(bounds)]
+
+    def _fuse(self, flat_lo: np.ndarray, cells: _ConeCells, run: slice) -> np.ndarray:
+        """Add the inverse sensor model's log-odds to the cells of one run of sonars (no cell
+        twice), clamped to ``[l_min, l_max]``; returns the run's new log-odds."""
+        idx, occ = cells.idx[run], cells.occ[run]
+        lo = flat_lo[idx]
+        if cells.weight is None:  # "band"
+            delta = np.where(occ, self.l_occ, self.l_free)
+        else:
+            w = cells.weight[run]
+            delta = w * self.l_free
+            arc = np.flatnonzero(occ)
+            if len(arc):
+                # Konolige's share of each sonar's echo over its own arc: w_i p_i / sum_j w_j p_j
+                blame = w[arc] / (1.0 + np.exp(-lo[arc]))
+                sonar_of = cells.sonar[run][arc]
+                total = np.bincount(sonar_of, weights=blame, minlength=cells.count)[sonar_of]
+                share = np.divide(self.echo_share * blame, total, out=np.zeros(len(arc)),
+                                  where=total > 0)  # no weight on the arc: no evidence
+                delta[arc] = self.l_occ * np.minimum(1.0, share)
+        fused = np.add(lo, delta, out=delta)
+        np.minimum(np.maximum(fused, self.l_min, out=fused), self.l_max, out=fused)
+        flat_lo[idx] = fused
+        return fused
+
+
+@dataclass(frozen=True)
+class _ConeCells:
+    """The cells one reading updates, one entry per (sonar, cell) pair, grouped by sonar.
+
+    Attributes:
+        idx: (N,) flat grid index of each entry's cell.
+        sonar: (N,) its sonar (non-decreasing).
+        local: (N,) its cell's flat index from the first row the reading can reach, in
+            ``[0, local_size)``.
+        occ: (N,) True on the echo arc, False where seen through.
+        weight: (N,) Elfes' angular weight ``w`` ("elfes"), None ("band").
+        count: K, the sonars of the reading.
+    """
+
+    idx: np.ndarray
+    sonar: np.ndarray
+    local: np.ndarray
+    local_size: int
+    occ: np.ndarray
+    weight: np.ndarray | None
+    count: int
+
+
+@dataclass(frozen=True)
+class _SonarRing:
+    """A :class:`SonarInfo`'s mounts as Python floats (the per-sonar arithmetic of an update is
+    scalar) and the farthest mount from the robot's centre (m)."""
+
+    offsets: tuple[tuple[float, float], ...]
+    angles: tuple[float, ...]
+    mount_reach: float
+
+    @classmethod
+    def of(cls, sonar: SonarInfo) -> _SonarRing:
+        offsets = tuple((float(ox), float(oy)) for ox, oy in np.asarray(sonar.offsets, dtype=float))
+        reach = max((math.hypot(ox, oy) for ox, oy in offsets), default=0.0)
+        return cls(offsets, tuple(float(a) for a in sonar.angles), reach)

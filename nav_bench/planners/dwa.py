@@ -125,6 +125,17 @@ def arc_clearances(arcs: np.ndarray, points: np.ndarray, radius: float) -> np.nd
     return d.reshape(arcs.shape[:2]) - radius
 
 
+def edge_clearance(xy: np.ndarray, points: np.ndarray, radius: float) -> float:
+    """Distance from the edge of a disc of ``radius`` at ``xy`` (2,) to the nearest of
+    ``points`` (M, 2), ``inf`` without points: :func:`arc_clearances` for one pose, without
+    building a k-d tree for one query (the same ``sqrt(dx^2 + dy^2)``; sqrt after the min is the
+    same value, sqrt being monotonic and correctly rounded)."""
+    if len(points) == 0:
+        return math.inf
+    dx, dy = points[:, 0] - xy[0], points[:, 1] - xy[1]
+    return float(np.sqrt((dx * dx + dy * dy).min())) - radius
+
+
 def choose_velocity(pose: np.ndarray, goal: np.ndarray, v_now: float, omega_now: float,
                     points: np.ndarray, radius: float, dt: float, p: Any,
                     v_max: float, omega_max: float, v_cap: float = math.inf) -> Choice:
@@ -154,7 +165,7 @@ def choose_velocity(pose: np.ndarray, goal: np.ndarray, v_now: float, omega_now:
     clear = arc_clearances(arcs, points, radius)
     # already closer than min_clearance (sensing noise, a grid cell's centre): moving away stays
     # admissible, only coming closer still is a collision
-    now = float(arc_clearances(np.asarray(pose, dtype=float)[None, None, :], points, radius)[0, 0])
+    now = edge_clearance(np.asarray(pose[:2], dtype=float), points, radius)
     hit = clear < min(p.min_clearance, now - 1e-6)
     first = np.where(hit.any(axis=1), hit.argmax(axis=1), steps)  # index of the first colliding pose
     dist = np.where(first < steps, vv * p.sim_step * first, math.inf)  # arc length before it
@@ -352,5 +363,5 @@ class DWAGlobal(DStarLite, DWA):
                 "target": self.local_goal.copy()}
 
 
-__all__ = ["DWA", "Choice", "DWAGlobal", "arc_clearances", "choose_velocity", "occupied_points",
-           "rollout"]
+__all__ = ["DWA", "Choice", "DWAGlobal", "arc_clearances", "choose_velocity", "edge_clearance",
+           "occupied_points", "rollout"]

@@ -124,6 +124,13 @@ def test_free_evidence_falls_off_with_the_angle_from_the_axis() -> None:
 def brute_force_elfes(grid: OccupancyGrid, pose: np.ndarray, ranges: np.ndarray,
                       sonar: SonarInfo) -> np.ndarray:
     """The Elfes model cell by cell over the whole grid (reference for the vectorised update)."""
+    return brute_force(grid, pose, ranges, sonar)
+
+
+def brute_force(grid: OccupancyGrid, pose: np.ndarray, ranges: np.ndarray,
+                sonar: SonarInfo) -> np.ndarray:
+    """The grid's model ("elfes" or "band") cell by cell over the whole grid, one sonar after the
+    other (reference for the vectorised update): the log-odds after fusing ``ranges``."""
     lo = grid.log_odds.copy()
     rows, cols = np.mgrid[0:grid.shape[0], 0:grid.shape[1]]
     centres = grid.cell_center(rows, cols)
@@ -144,9 +151,13 @@ def brute_force_elfes(grid: OccupancyGrid, pose: np.ndarray, ranges: np.ndarray,
         echo = r < sonar.max_range
         free = cone & ((dist < r - half_t) if echo else (dist <= sonar.max_range))
         occ = cone & (np.abs(dist - r) <= half_t) & echo
-        blame = np.where(occ, w / (1 + np.exp(-lo)), 0.0)
-        share = grid.echo_share * blame / blame.sum() if blame.sum() > 0 else blame
-        delta = np.where(occ, grid.l_occ * np.minimum(1.0, share), np.where(free, w * grid.l_free, 0.0))
+        if grid.model == "band":
+            delta = np.where(occ, grid.l_occ, np.where(free, grid.l_free, 0.0))
+        else:
+            blame = np.where(occ, w / (1 + np.exp(-lo)), 0.0)
+            share = grid.echo_share * blame / blame.sum() if blame.sum() > 0 else blame
+            delta = np.where(occ, grid.l_occ * np.minimum(1.0, share),
+                             np.where(free, w * grid.l_free, 0.0))
         lo = np.clip(lo + delta, grid.l_min, grid.l_max)
     return lo
 
@@ -162,6 +173,54 @@ def test_vectorised_elfes_update_equals_the_cell_by_cell_model() -> None:
         grid.update(pose, ranges, sonar)
         np.testing.assert_allclose(grid.log_odds, expected, atol=1e-12)
     np.testing.assert_array_equal(grid.values(), log_odds_to_values(grid.log_odds))
+
+
+RING16 = np.radians(22.5 * np.arange(16))
+
+
+@pytest.mark.parametrize("model", ["elfes", "band"])
+@pytest.mark.parametrize(("ring", "sonar"), [
+    # 16 sonars with 30 deg cones 22.5 deg apart: neighbouring cones share cells every cycle
+    ("ring16", SonarInfo(angles=RING16, offsets=0.2 * np.stack([np.cos(RING16), np.sin(RING16)], 1),
+                         cone=math.radians(30.0), min_range=0.05, max_range=3.0)),
+    # two sonars in the same place, 3 deg apart, and a third like the first: most cells twice
+    ("stacked", SonarInfo(angles=np.radians([0.0, 3.0, 0.0]), offsets=np.zeros((3, 2)),
+                          cone=math.radians(25.0), min_range=0.05, max_range=2.0)),
+])
+def test_overlapping_cones_are_fused_one_sonar_after_the_other(model: str, ring: str,
+                                                               sonar: SonarInfo) -> None:
+    # the update fuses all sonars at once unless cones share cells; then it must still equal
+    # the sonars fused in order (the later echo's share sees the earlier update), here with
+    # the robot also near and beyond the grid's edges
+    rng = np.random.default_rng(5)
+    grid = OccupancyGrid((0.0, 0.0, 6.0, 5.0), model=model)
+    k = len(sonar.angles)
+    for i in range(12):
+        pose = np.array([rng.uniform(-0.5, 6.5), rng.uniform(-0.5, 5.5), rng.uniform(-np.pi, np.pi)])
+        if i % 2:
+            pose[:2] = rng.uniform(2.0, 3.0, 2)  # back to the middle: cells seen again
+        ranges = np.where(rng.random(k) < 0.3, sonar.max_range, rng.uniform(0.1, 0.97 * sonar.max_range, k))
+        expected = brute_force(grid, pose, ranges, sonar)
+        grid.update(pose, ranges, sonar)
+        if model == "band":  # sums of the same two constants in the same order: exact
+            np.testing.assert_array_equal(grid.log_odds, expected)
+        else:
+            np.testing.assert_allclose(grid.log_odds, expected, atol=1e-12)
+    np.testing.assert_array_equal(grid.values(), log_odds_to_values(grid.log_odds))
+
+
+def test_a_grid_updated_with_another_sonar_ring_uses_that_rings_cones() -> None:
+    # the cone tables and mount positions are per ring: a second ring (another cone and range)
+    # on the same grid is not read through the first one's tables
+    grid = OccupancyGrid((0.0, 0.0, 6.0, 5.0))
+    pose, ranges = np.array([3.0, 2.5, 0.4]), np.array([1.5, 3.0, 0.8, 3.0, 2.0, 3.0])
+    wide = SonarInfo(angles=np.array([0.0, 2.0]), offsets=np.zeros((2, 2)), cone=math.radians(40.0),
+                     min_range=0.05, max_range=4.0)
+    for sonar, reading in ((diffbot_sonar(), ranges), (wide, np.array([2.5, 4.0])),
+                           (diffbot_sonar(), ranges[::-1].copy())):
+        expected = brute_force(grid, pose, reading, sonar)
+        grid.update(pose, reading, sonar)
+        np.testing.assert_allclose(grid.log_odds, expected, atol=1e-12)
 
 
 def test_unknown_sonar_model_is_refused_with_the_choices() -> None:

@@ -16,6 +16,7 @@ from nav_bench.planners.dwa import (
     DWAGlobal,
     arc_clearances,
     choose_velocity,
+    edge_clearance,
     rollout,
 )
 from nav_bench.testing.harness import BoxWorld, run, wall_world
@@ -38,6 +39,18 @@ def test_clearance_is_measured_from_the_robot_edge() -> None:
     clear = arc_clearances(arcs, np.array([[2.0, 0.0], [0.0, 3.0]]), radius=0.2)
     np.testing.assert_allclose(clear, [[1.8, 0.8]])
     assert np.isinf(arc_clearances(arcs, np.zeros((0, 2)), 0.2)).all()
+
+
+def test_the_clearance_of_one_pose_is_the_roll_out_clearance_of_that_pose() -> None:
+    # choose_velocity's "already this close" clearance: the same value, to the last bit, as
+    # arc_clearances' k-d tree query would give for the pose
+    rng = np.random.default_rng(2)
+    for _ in range(50):
+        pose = rng.uniform(-5.0, 5.0, 3)
+        points = pose[:2] + rng.uniform(-1.7, 1.7, (int(rng.integers(1, 150)), 2))
+        expected = arc_clearances(pose[None, None, :], points, 0.2)[0, 0]
+        assert edge_clearance(pose[:2], points, 0.2) == expected
+    assert edge_clearance(np.zeros(2), np.zeros((0, 2)), 0.2) == math.inf
 
 
 def test_the_window_limits_acceleration_and_free_space_takes_its_top() -> None:
