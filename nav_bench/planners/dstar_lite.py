@@ -621,7 +621,7 @@ class DStarLite(Planner):
         super().reset(obs, rng)
         self.reset_path(obs)
         p = self.settings
-        self.guard_settings = GuardSettings(required=obs.robot.radius + 0.5 * p.cell,
+        self.guard_settings = GuardSettings(required=self.required_clearance(obs),
                                             horizon=p.safety_horizon_s, slow_distance=p.slow_distance)
         rs = RecoverySettings(after_s=p.recovery_after_s, progress_m=p.progress_m, backup_m=p.backup_m,
                               rotate_rad=math.radians(p.rotate_deg),
@@ -633,13 +633,22 @@ class DStarLite(Planner):
         self.last_reason: StuckReason | None = None
         self.no_path_left = p.no_path_recoveries
 
+    def required_clearance(self, obs: Observation) -> float:
+        """The clearance (m, robot centre to the nearest occupied cell's centre) the follower
+        keeps and the search treats as inscribed: the robot radius plus half a cell."""
+        return obs.robot.radius + 0.5 * self.settings.cell
+
     def reset_path(self, obs: Observation) -> None:
         """The grid, the obstacle distances and costs, and the first D* Lite plan (what
         ``dwa_global`` shares)."""
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell, model=p.sonar_model)
         self.shape = self.grid.shape
-        self.inscribed = obs.robot.radius / p.cell  # cells
+        # cells: where the follower's guard will not take the robot (its radius plus half a cell,
+        # so the occupied cell's edge stays outside the body). With the radius alone, cells the
+        # guard refuses cost ~5 and paths ran into gaps the robot then stood before until it
+        # ended stuck (generated offices and clutter, baselines study)
+        self.inscribed = self.required_clearance(obs) / p.cell
         self.margin_cells = p.inflation_margin / p.cell
         self.cap = self.inscribed + self.margin_cells + 1.0  # distances beyond change no cost
         self.pad = math.ceil(self.cap)

@@ -150,12 +150,13 @@ def test_planner_costs_match_a_distance_transform_of_the_whole_map() -> None:
     world, start, goal = wall_world()
     result = run(DStarLite(inflation_margin=0.3, cell=0.1), world, start, goal, time_s=3.0)
     planner = result.planner
-    assert planner.inscribed == pytest.approx(0.2 / 0.1)  # the harness robot: radius 0.2 m
+    # the harness robot's radius 0.2 m plus half a cell: where the guard will not drive
+    assert planner.inscribed == pytest.approx((0.2 + 0.05) / 0.1)
     occ = planner.occupied
     assert occ.any()  # the wall is in the map after a few seconds of sonar
     dist = obstacle_distance(occ, planner.cap)
     np.testing.assert_allclose(planner.dist, dist)
-    expected = clearance_costs(dist, 2.0, 3.0, 1000.0, 5.0)
+    expected = clearance_costs(dist, 2.5, 3.0, 1000.0, 5.0)
     np.testing.assert_array_equal(planner.cost, expected)
 
 
