@@ -73,7 +73,8 @@ def range_function(points: np.ndarray, xy: np.ndarray, grow: float,
                    directions: np.ndarray) -> np.ndarray:
     """``rho`` (D,) of the local range function at ``xy``: for each direction (rad, world), the
     distance (m) of the nearest point of ``points`` (M, 2) whose grown disc (radius ``grow``)
-    the ray passes; ``inf`` where none does."""
+    the ray passes; ``inf`` where none does. Cost D x M: for a few directions; the full circle
+    of bins is :func:`binned_range_function`."""
     if len(points) == 0:
         return np.full(len(directions), np.inf)
     d = points - xy
@@ -82,6 +83,40 @@ def range_function(points: np.ndarray, xy: np.ndarray, grow: float,
     half = np.arcsin(np.minimum(1.0, grow / dist))
     diff = np.abs(np.remainder(directions[:, None] - bearing[None, :] + math.pi, 2 * math.pi) - math.pi)
     return np.where(diff <= half[None, :], dist[None, :], np.inf).min(axis=1)
+
+
+def range_bins(n: int) -> np.ndarray:
+    """(n,) directions of the binned range function, rad: ``-pi + 2 pi k / n``, CCW."""
+    return np.linspace(-math.pi, math.pi, n, endpoint=False)
+
+
+def binned_range_function(points: np.ndarray, xy: np.ndarray, grow: float,
+                          bins: np.ndarray) -> np.ndarray:
+    """:func:`range_function` over the directions ``bins`` = :func:`range_bins` ``(n)``, equal
+    to it bit for bit, at a cost that grows with the bins each point blocks, not n x M.
+
+    A point blocks the bins within its half angle of its bearing, a run of consecutive bins:
+    only that run, widened by one bin each side against rounding, is tested, with the same
+    expression as :func:`range_function`."""
+    n = len(bins)
+    if len(points) == 0:
+        return np.full(n, np.inf)
+    d = points - xy
+    dist = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)
+    bearing = np.arctan2(d[:, 1], d[:, 0])
+    half = np.arcsin(np.minimum(1.0, grow / dist))
+    step = 2 * math.pi / n
+    lo = np.floor((bearing - half + math.pi) / step).astype(np.int64) - 1
+    hi = np.ceil((bearing + half + math.pi) / step).astype(np.int64) + 1
+    count = np.minimum(hi - lo + 1, n)  # (M,) candidate bins per point; n covers the circle once
+    owner = np.repeat(np.arange(len(points)), count)  # (C,) the point of each candidate
+    first = np.cumsum(count) - count
+    k = (lo[owner] + np.arange(len(owner)) - first[owner]) % n  # (C,) candidate bin
+    diff = np.abs(np.remainder(bins[k] - bearing[owner] + math.pi, 2 * math.pi) - math.pi)
+    hit = diff <= half[owner]
+    rho = np.full(n, np.inf)
+    np.minimum.at(rho, k[hit], dist[owner[hit]])
+    return rho
 
 
 def blocked_interval_edges(blocked: np.ndarray, k: int) -> tuple[int, int] | None:
@@ -138,7 +173,7 @@ class TangentBug(Planner):
         self.acquired = False
         self.d_followed = math.inf
         self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius)
-        self.bins = np.linspace(-math.pi, math.pi, p.directions, endpoint=False)
+        self.bins = range_bins(p.directions)
         self._endpoint: list[float] | None = None
         self._prev_xy = np.asarray(obs.pose[:2], dtype=float).copy()
         self._follow_starts: list[list[float]] = []
@@ -160,7 +195,7 @@ class TangentBug(Planner):
         free_len = min(d_goal, r_sense, rho_goal)
         if rho_goal >= d_goal:
             return True, free_len, []
-        rho = range_function(pts, xy, grow, self.bins)
+        rho = binned_range_function(pts, xy, grow, self.bins)
         blocked = rho < d_goal
         n = len(self.bins)
         k_goal = int(np.argmin(np.abs(np.remainder(self.bins - theta_g + math.pi, 2 * math.pi) - math.pi)))
