@@ -353,6 +353,7 @@ class EchoMemory:
         # (M,) int64 code of each point's de-duplication square (with spacing > 0); the stored
         # points have distinct codes, so an add only compares its few new points against them
         self._square = np.zeros(0, dtype=np.int64)
+        self._distances: tuple[tuple[float, float], np.ndarray] | None = None  # see points()
 
     def _square_codes(self, xy: np.ndarray) -> np.ndarray:
         """(M,) int64 code of the ``spacing`` m square of each point of ``xy`` (M, 2): the
@@ -383,17 +384,22 @@ class EchoMemory:
                            y + si * s.offsets[:, 0] + c * s.offsets[:, 1]], axis=1)  # (K, 2)
         d = self._xy[near][:, None, :] - origin[None, :, :]  # (N, K, 2)
         dist = np.hypot(d[..., 0], d[..., 1])
-        off = np.abs(np.remainder(np.arctan2(d[..., 1], d[..., 0]) - (yaw + s.angles)[None, :] + math.pi,
+        # the bearing test only for the (point, sonar) pairs nearer than that reading
+        i, k = np.nonzero(dist < r[None, :] - self.carve_margin)
+        if len(i) == 0:
+            return
+        off = np.abs(np.remainder(np.arctan2(d[i, k, 1], d[i, k, 0]) - (yaw + s.angles)[k] + math.pi,
                                   2 * math.pi) - math.pi)
-        seen_through = ((off <= self.carve_cone * s.cone / 2) & (dist < r[None, :] - self.carve_margin)).any(axis=1)
-        if seen_through.any():
+        seen = i[off <= self.carve_cone * s.cone / 2]
+        if len(seen):
             keep = np.ones(len(self._xy), dtype=bool)
-            keep[near[seen_through]] = False
+            keep[near[seen]] = False
             self._drop(keep)
 
     def _drop(self, keep: np.ndarray) -> None:
         """Keep only the points where ``keep`` (M,) bool is True."""
         self._xy, self._t = self._xy[keep], self._t[keep]
+        self._distances = None
         if self.spacing > 0:
             self._square = self._square[keep]
 
@@ -424,13 +430,19 @@ class EchoMemory:
             self._square = np.concatenate([self._square, codes])[-self.capacity:]
         self._xy = np.concatenate([self._xy, pts])[-self.capacity:]
         self._t = np.concatenate([self._t, t_new])[-self.capacity:]
+        self._distances = None
 
     def points(self, center: np.ndarray | None = None, radius: float = math.inf) -> np.ndarray:
-        """(M, 2) remembered points, optionally only those within ``radius`` m of ``center``."""
+        """(M, 2) remembered points, optionally only those within ``radius`` m of ``center``.
+
+        The points' distances from the last ``center`` are kept until the memory changes: a
+        planner asks several times a cycle from where the robot is."""
         if center is None or not math.isfinite(radius):
             return self._xy.copy()
-        d = np.hypot(self._xy[:, 0] - center[0], self._xy[:, 1] - center[1])
-        return self._xy[d <= radius]
+        at = (float(center[0]), float(center[1]))
+        if self._distances is None or self._distances[0] != at:
+            self._distances = (at, np.hypot(self._xy[:, 0] - at[0], self._xy[:, 1] - at[1]))
+        return self._xy[self._distances[1] <= radius]
 
     def __len__(self) -> int:
         return len(self._xy)

@@ -189,7 +189,8 @@ def replay_commands(name: str, planner: Planner) -> tuple[np.ndarray, np.ndarray
     """Feed the observations recorded in ``tests/data/planner_replay/<name>.npz`` (a real
     episode of main's code at cd00640, recorded by ``benchmarks/bench_tangent_bug.py --record``)
     to ``planner``; its commands (N, 2) and the recorded ones."""
-    rec = np.load(REPLAY / f"{name}.npz")
+    with np.load(REPLAY / f"{name}.npz") as stored:
+        rec = {key: stored[key] for key in stored.files}  # read once: an NpzFile inflates per access
     sonar = SonarInfo(angles=rec["sonar_angles"], offsets=rec["sonar_offsets"], cone=float(rec["sonar_cone"]),
                       min_range=float(rec["sonar_min_range"]), max_range=float(rec["sonar_max_range"]))
     robot = RobotInfo(radius=float(rec["robot_radius"]), wheel_base=float(rec["wheel_base"]),
