@@ -380,15 +380,16 @@ class EchoMemory:
         if len(near) == 0:
             return
         c, si = math.cos(yaw), math.sin(yaw)
-        origin = np.stack([x + c * s.offsets[:, 0] - si * s.offsets[:, 1],
-                           y + si * s.offsets[:, 0] + c * s.offsets[:, 1]], axis=1)  # (K, 2)
-        d = self._xy[near][:, None, :] - origin[None, :, :]  # (N, K, 2)
-        dist = np.hypot(d[..., 0], d[..., 1])
+        ox = x + c * s.offsets[:, 0] - si * s.offsets[:, 1]  # (K,) sonar origins
+        oy = y + si * s.offsets[:, 0] + c * s.offsets[:, 1]
+        dx = self._xy[near, 0][:, None] - ox[None, :]  # (N, K)
+        dy = self._xy[near, 1][:, None] - oy[None, :]
+        dist = np.hypot(dx, dy)
         # the bearing test only for the (point, sonar) pairs nearer than that reading
         i, k = np.nonzero(dist < r[None, :] - self.carve_margin)
         if len(i) == 0:
             return
-        off = np.abs(np.remainder(np.arctan2(d[i, k, 1], d[i, k, 0]) - (yaw + s.angles)[k] + math.pi,
+        off = np.abs(np.remainder(np.arctan2(dy[i, k], dx[i, k]) - (yaw + s.angles)[k] + math.pi,
                                   2 * math.pi) - math.pi)
         seen = i[off <= self.carve_cone * s.cone / 2]
         if len(seen):
