@@ -279,13 +279,13 @@ class TangentBug(Planner):
         v = min(p.v_max, obs.robot.v_max)
         d_goal = float(np.hypot(*(goal - xy)))
         theta_g = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
-        free, free_len, endpoints = self._endpoints(obs, xy, goal)
         moved = float(np.hypot(*(xy - self._prev_xy)))
         self._prev_xy = xy.copy()
-        if self.mode == FOLLOW:
-            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+        if self.mode == FOLLOW:  # following needs no endpoints: not computed
+            return self._follow(obs, xy, goal, d_goal, theta_g, v)
         if self.mode == UNREACHABLE:
             return STOP
+        free, _, endpoints = self._endpoints(obs, xy, goal)
         ahead = min(obstacle_ahead(obs, p.front_distance, corridor_half_width(obs.robot)),
                     points_ahead(self.memory.points(xy, p.front_distance + 0.1), obs,
                                  p.front_distance, obs.robot.radius))
@@ -295,11 +295,11 @@ class TangentBug(Planner):
             if ahead < min(p.front_distance, d_goal):  # an obstacle the memory did not show
                 side = RIGHT if wrap_angle(theta_g - float(obs.pose[2])) >= 0 else LEFT
                 self._start_following(obs, xy, side)
-                return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+                return self._follow(obs, xy, goal, d_goal, theta_g, v)
             return steer(obs, theta_g, arrival_speed(d_goal, v))
         if not endpoints:  # enclosed in every direction within range
             self._start_following(obs, xy, self.side)
-            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+            return self._follow(obs, xy, goal, d_goal, theta_g, v)
         heading, h, side = min(endpoints, key=lambda e: e[1])
         if self._endpoint is None:  # the goal just got blocked: h starts afresh
             self.h_min, self.stall = math.inf, 0
@@ -310,12 +310,11 @@ class TangentBug(Planner):
             self.stall += 1  # turning on the spot toward an endpoint is not a stall
         if self.stall >= p.stall_cycles or ahead < p.front_distance:
             self._start_following(obs, xy, side)
-            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+            return self._follow(obs, xy, goal, d_goal, theta_g, v)
         return steer(obs, heading, v)
 
     def _follow(self, obs: Observation, xy: np.ndarray, goal: np.ndarray, d_goal: float,
-                theta_g: float, free_len: float, endpoints: list[tuple[float, float, int]],
-                v: float) -> Command:
+                theta_g: float, v: float) -> Command:
         p = self.settings
         assert self.follower is not None
         if self.loop.update(xy):
