@@ -346,54 +346,104 @@ class EchoMemory:
         self.horizon, self.capacity = horizon, capacity
         self.carve, self.spacing = carve, spacing
         self.carve_margin, self.carve_cone = carve_margin, carve_cone
-        self._xy = np.zeros((0, 2))
-        self._t = np.zeros(0)
+        self.clear()
 
     def clear(self) -> None:
         self._xy, self._t = np.zeros((0, 2)), np.zeros(0)
+        # (M,) int64 code of each point's de-duplication square (with spacing > 0); the stored
+        # points have distinct codes, so an add only compares its few new points against them
+        self._square = np.zeros(0, dtype=np.int64)
+        self._distances: tuple[tuple[float, float], np.ndarray] | None = None  # see points()
+
+    def _square_codes(self, xy: np.ndarray) -> np.ndarray:
+        """(M,) int64 code of the ``spacing`` m square of each point of ``xy`` (M, 2): the
+        square's column in the high 32 bits, its row in the low 32 (distinct for |index| < 2**31,
+        i.e. within 10**7 m of the origin at 5 cm)."""
+        key = np.floor(xy / self.spacing).astype(np.int64)
+        return key[:, 0] * (1 << 32) + key[:, 1]
 
     def _carve(self, obs: Observation) -> None:
         """Drop remembered points that this cycle's readings see through (vectorised over
-        points x sonars)."""
+        points x sonars). Only points that some reading could see through are examined: those
+        within the longest reading less the margin of a sonar's origin (a box round the robot
+        that contains them), so the cost does not grow with the whole memory."""
         if len(self._xy) == 0:
             return
         s = obs.robot.sonar
         x, y, yaw = (float(v) for v in obs.pose[:3])
-        c, si = math.cos(yaw), math.sin(yaw)
-        origin = np.stack([x + c * s.offsets[:, 0] - si * s.offsets[:, 1],
-                           y + si * s.offsets[:, 0] + c * s.offsets[:, 1]], axis=1)  # (K, 2)
         r = np.where(np.isfinite(obs.ranges), np.asarray(obs.ranges, dtype=float), s.max_range)
-        d = self._xy[:, None, :] - origin[None, :, :]  # (M, K, 2)
-        dist = np.hypot(d[..., 0], d[..., 1])
-        off = np.abs(np.remainder(np.arctan2(d[..., 1], d[..., 0]) - (yaw + s.angles)[None, :] + math.pi,
+        reach = float(r.max()) - self.carve_margin
+        if not reach > 0.0:
+            return
+        reach += float(np.hypot(s.offsets[:, 0], s.offsets[:, 1]).max()) + 1e-6  # from the centre
+        near = np.flatnonzero((np.abs(self._xy[:, 0] - x) < reach) & (np.abs(self._xy[:, 1] - y) < reach))
+        if len(near) == 0:
+            return
+        c, si = math.cos(yaw), math.sin(yaw)
+        ox = x + c * s.offsets[:, 0] - si * s.offsets[:, 1]  # (K,) sonar origins
+        oy = y + si * s.offsets[:, 0] + c * s.offsets[:, 1]
+        dx = self._xy[near, 0][:, None] - ox[None, :]  # (N, K)
+        dy = self._xy[near, 1][:, None] - oy[None, :]
+        dist = np.hypot(dx, dy)
+        # the bearing test only for the (point, sonar) pairs nearer than that reading
+        i, k = np.nonzero(dist < r[None, :] - self.carve_margin)
+        if len(i) == 0:
+            return
+        off = np.abs(np.remainder(np.arctan2(dy[i, k], dx[i, k]) - (yaw + s.angles)[k] + math.pi,
                                   2 * math.pi) - math.pi)
-        seen_through = (off <= self.carve_cone * s.cone / 2) & (dist < r[None, :] - self.carve_margin)
-        keep = ~seen_through.any(axis=1)
+        seen = i[off <= self.carve_cone * s.cone / 2]
+        if len(seen):
+            keep = np.ones(len(self._xy), dtype=bool)
+            keep[near[seen]] = False
+            self._drop(keep)
+
+    def _drop(self, keep: np.ndarray) -> None:
+        """Keep only the points where ``keep`` (M,) bool is True."""
         self._xy, self._t = self._xy[keep], self._t[keep]
+        self._distances = None
+        if self.spacing > 0:
+            self._square = self._square[keep]
 
     def add(self, obs: Observation) -> None:
-        """Store this cycle's echoes and forget those older than the horizon (or seen through)."""
+        """Store this cycle's echoes and forget those older than the horizon (or seen through).
+
+        With ``spacing`` the newest point of each square is kept, in the order the kept points
+        were added (the de-duplication compares only this cycle's echoes with the memory)."""
         if self.carve:
             self._carve(obs)
         pts = world_echoes(obs)
-        xy = np.concatenate([self._xy, pts])
-        t = np.concatenate([self._t, np.full(len(pts), obs.t)])
-        keep = t >= obs.t - self.horizon
-        xy, t = xy[keep], t[keep]
-        if self.spacing > 0 and len(xy):
-            key = np.floor(xy / self.spacing).astype(np.int64)
-            # the newest point of each square: unique on the reversed order keeps the last one
-            _, first = np.unique(key[::-1], axis=0, return_index=True)
-            idx = np.sort(len(xy) - 1 - first)
-            xy, t = xy[idx], t[idx]
-        self._xy, self._t = xy[-self.capacity:], t[-self.capacity:]
+        if len(self._t) and not self._t[0] >= obs.t - self.horizon:  # the oldest is first
+            self._drop(self._t >= obs.t - self.horizon)
+        t_new = np.full(len(pts), obs.t)
+        if not obs.t >= obs.t - self.horizon:  # only a NaN time or a negative horizon drops new echoes
+            pts, t_new = pts[:0], t_new[:0]
+        if self.spacing > 0 and len(pts):
+            codes = self._square_codes(pts)
+            # the last echo of each square among this cycle's (at most one per sonar: a loop
+            # over the readings, not over the memory)
+            seen: set[int] = set()
+            last = [i for i in range(len(codes) - 1, -1, -1)
+                    if not (int(codes[i]) in seen or seen.add(int(codes[i])))][::-1]
+            pts, t_new, codes = pts[last], t_new[last], codes[last]
+            replaced = (self._square[:, None] == codes[None, :]).any(axis=1)
+            if replaced.any():  # the newer echo of a square replaces the remembered one
+                self._drop(~replaced)
+            self._square = np.concatenate([self._square, codes])[-self.capacity:]
+        self._xy = np.concatenate([self._xy, pts])[-self.capacity:]
+        self._t = np.concatenate([self._t, t_new])[-self.capacity:]
+        self._distances = None
 
     def points(self, center: np.ndarray | None = None, radius: float = math.inf) -> np.ndarray:
-        """(M, 2) remembered points, optionally only those within ``radius`` m of ``center``."""
+        """(M, 2) remembered points, optionally only those within ``radius`` m of ``center``.
+
+        The points' distances from the last ``center`` are kept until the memory changes: a
+        planner asks several times a cycle from where the robot is."""
         if center is None or not math.isfinite(radius):
             return self._xy.copy()
-        d = np.hypot(self._xy[:, 0] - center[0], self._xy[:, 1] - center[1])
-        return self._xy[d <= radius]
+        at = (float(center[0]), float(center[1]))
+        if self._distances is None or self._distances[0] != at:
+            self._distances = (at, np.hypot(self._xy[:, 0] - at[0], self._xy[:, 1] - at[1]))
+        return self._xy[self._distances[1] <= radius]
 
     def __len__(self) -> int:
         return len(self._xy)

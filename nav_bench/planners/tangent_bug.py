@@ -43,6 +43,7 @@ Each switch to boundary following emits a ``replan`` event.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
@@ -69,19 +70,71 @@ from nav_bench.planners.follow import (
 )
 
 
-def range_function(points: np.ndarray, xy: np.ndarray, grow: float,
+@dataclass(frozen=True)
+class PolarEchoes:
+    """Remembered echoes seen from one position, for the local range function.
+
+    Attributes:
+        dist: (M,) distance of each echo, m (at least 1e-6).
+        bearing: (M,) its world direction, rad in [-pi, pi].
+        half: (M,) half angle its grown disc subtends, rad in [0, pi/2].
+    """
+
+    dist: np.ndarray
+    bearing: np.ndarray
+    half: np.ndarray
+
+
+def polar_echoes(points: np.ndarray, xy: np.ndarray, grow: float) -> PolarEchoes:
+    """``points`` (M, 2) seen from ``xy`` (2,), each grown by ``grow`` m (computed once a cycle)."""
+    d = points - xy
+    dist = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)
+    return PolarEchoes(dist, np.arctan2(d[:, 1], d[:, 0]), np.arcsin(np.minimum(1.0, grow / dist)))
+
+
+def range_function(points: np.ndarray | PolarEchoes, xy: np.ndarray, grow: float,
                    directions: np.ndarray) -> np.ndarray:
     """``rho`` (D,) of the local range function at ``xy``: for each direction (rad, world), the
     distance (m) of the nearest point of ``points`` (M, 2) whose grown disc (radius ``grow``)
-    the ray passes; ``inf`` where none does."""
-    if len(points) == 0:
+    the ray passes; ``inf`` where none does. ``points`` may be given as :func:`polar_echoes`
+    (then ``xy`` and ``grow`` are not used). Cost D x M: for a few directions; the full circle
+    of bins is :func:`binned_range_function`."""
+    e = points if isinstance(points, PolarEchoes) else polar_echoes(points, xy, grow)
+    if len(e.dist) == 0:
         return np.full(len(directions), np.inf)
-    d = points - xy
-    dist = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)
-    bearing = np.arctan2(d[:, 1], d[:, 0])
-    half = np.arcsin(np.minimum(1.0, grow / dist))
-    diff = np.abs(np.remainder(directions[:, None] - bearing[None, :] + math.pi, 2 * math.pi) - math.pi)
-    return np.where(diff <= half[None, :], dist[None, :], np.inf).min(axis=1)
+    diff = np.abs(np.remainder(directions[:, None] - e.bearing[None, :] + math.pi, 2 * math.pi) - math.pi)
+    return np.where(diff <= e.half[None, :], e.dist[None, :], np.inf).min(axis=1)
+
+
+def range_bins(n: int) -> np.ndarray:
+    """(n,) directions of the binned range function, rad: ``-pi + 2 pi k / n``, CCW."""
+    return np.linspace(-math.pi, math.pi, n, endpoint=False)
+
+
+def binned_range_function(points: np.ndarray | PolarEchoes, xy: np.ndarray, grow: float,
+                          bins: np.ndarray) -> np.ndarray:
+    """:func:`range_function` over the directions ``bins`` = :func:`range_bins` ``(n)``, equal
+    to it bit for bit, at a cost that grows with the bins each point blocks, not n x M.
+
+    A point blocks the bins within its half angle of its bearing, a run of consecutive bins:
+    only that run, widened by one bin each side against rounding, is tested, with the same
+    expression as :func:`range_function`."""
+    n = len(bins)
+    e = points if isinstance(points, PolarEchoes) else polar_echoes(points, xy, grow)
+    if len(e.dist) == 0:
+        return np.full(n, np.inf)
+    step = 2 * math.pi / n
+    lo = np.floor((e.bearing - e.half + math.pi) / step).astype(np.int64) - 1
+    hi = np.ceil((e.bearing + e.half + math.pi) / step).astype(np.int64) + 1
+    count = np.minimum(hi - lo + 1, n)  # (M,) candidate bins per point; n covers the circle once
+    owner = np.repeat(np.arange(len(e.dist)), count)  # (C,) the point of each candidate
+    first = np.cumsum(count) - count
+    k = (lo[owner] + np.arange(len(owner)) - first[owner]) % n  # (C,) candidate bin
+    diff = np.abs(np.remainder(bins[k] - e.bearing[owner] + math.pi, 2 * math.pi) - math.pi)
+    hit = diff <= e.half[owner]
+    rho = np.full(n, np.inf)
+    np.minimum.at(rho, k[hit], e.dist[owner[hit]])
+    return rho
 
 
 def blocked_interval_edges(blocked: np.ndarray, k: int) -> tuple[int, int] | None:
@@ -138,14 +191,25 @@ class TangentBug(Planner):
         self.acquired = False
         self.d_followed = math.inf
         self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius)
-        self.bins = np.linspace(-math.pi, math.pi, p.directions, endpoint=False)
+        self.bins = range_bins(p.directions)
         self._endpoint: list[float] | None = None
         self._prev_xy = np.asarray(obs.pose[:2], dtype=float).copy()
         self._follow_starts: list[list[float]] = []
+        self._polar_at: tuple[float, float] | None = None  # (x, y) of _polar_echoes; None: stale
+        self._polar_echoes = polar_echoes(np.zeros((0, 2)), np.zeros(2), 0.0)
 
     # -- the local range function ------------------------------------------------------------------
     def _sensing_range(self, obs: Observation) -> float:
         return self.settings.sensing_range or obs.robot.sonar.max_range
+
+    def _polar(self, obs: Observation, xy: np.ndarray) -> PolarEchoes:
+        """The remembered echoes within the sensing range as seen from ``xy``: computed once
+        a cycle (:meth:`act` marks it stale when it adds this cycle's echoes)."""
+        if self._polar_at != (float(xy[0]), float(xy[1])):
+            grow = obs.robot.radius + self.settings.clearance
+            self._polar_at = (float(xy[0]), float(xy[1]))
+            self._polar_echoes = polar_echoes(self.memory.points(xy, self._sensing_range(obs)), xy, grow)
+        return self._polar_echoes
 
     def _endpoints(self, obs: Observation, xy: np.ndarray, goal: np.ndarray
                    ) -> tuple[bool, float, list[tuple[float, float, int]]]:
@@ -153,14 +217,14 @@ class TangentBug(Planner):
         (heading rad, h m, side to keep the obstacle on))."""
         r_sense = self._sensing_range(obs)
         grow = obs.robot.radius + self.settings.clearance
-        pts = self.memory.points(xy, r_sense)
+        pts = self._polar(obs, xy)
         d_goal = float(np.hypot(*(goal - xy)))
         theta_g = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
         rho_goal = float(range_function(pts, xy, grow, np.array([theta_g]))[0])
         free_len = min(d_goal, r_sense, rho_goal)
         if rho_goal >= d_goal:
             return True, free_len, []
-        rho = range_function(pts, xy, grow, self.bins)
+        rho = binned_range_function(pts, xy, grow, self.bins)
         blocked = rho < d_goal
         n = len(self.bins)
         k_goal = int(np.argmin(np.abs(np.remainder(self.bins - theta_g + math.pi, 2 * math.pi) - math.pi)))
@@ -190,7 +254,7 @@ class TangentBug(Planner):
         r_sense = self._sensing_range(obs)
         ang = float(obs.pose[2]) + s.angles
         ranges = np.where(echo_mask(obs), np.asarray(obs.ranges, dtype=float), r_sense)
-        rho = range_function(self.memory.points(xy, r_sense), xy, grow, ang)
+        rho = range_function(self._polar(obs, xy), xy, grow, ang)
         length = np.clip(np.minimum(np.minimum(ranges, r_sense) - grow, rho - grow), 0.0, None)  # (K,)
         u = np.stack([np.cos(ang), np.sin(ang)], axis=1)
         along = np.clip((goal - xy) @ u.T, 0.0, length)  # closest point of each free segment
@@ -211,16 +275,17 @@ class TangentBug(Planner):
         p = self.settings
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         self.memory.add(obs)
+        self._polar_at = None  # the memory changed
         v = min(p.v_max, obs.robot.v_max)
         d_goal = float(np.hypot(*(goal - xy)))
         theta_g = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
-        free, free_len, endpoints = self._endpoints(obs, xy, goal)
         moved = float(np.hypot(*(xy - self._prev_xy)))
         self._prev_xy = xy.copy()
-        if self.mode == FOLLOW:
-            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+        if self.mode == FOLLOW:  # following needs no endpoints: not computed
+            return self._follow(obs, xy, goal, d_goal, theta_g, v)
         if self.mode == UNREACHABLE:
             return STOP
+        free, _, endpoints = self._endpoints(obs, xy, goal)
         ahead = min(obstacle_ahead(obs, p.front_distance, corridor_half_width(obs.robot)),
                     points_ahead(self.memory.points(xy, p.front_distance + 0.1), obs,
                                  p.front_distance, obs.robot.radius))
@@ -230,11 +295,11 @@ class TangentBug(Planner):
             if ahead < min(p.front_distance, d_goal):  # an obstacle the memory did not show
                 side = RIGHT if wrap_angle(theta_g - float(obs.pose[2])) >= 0 else LEFT
                 self._start_following(obs, xy, side)
-                return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+                return self._follow(obs, xy, goal, d_goal, theta_g, v)
             return steer(obs, theta_g, arrival_speed(d_goal, v))
         if not endpoints:  # enclosed in every direction within range
             self._start_following(obs, xy, self.side)
-            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+            return self._follow(obs, xy, goal, d_goal, theta_g, v)
         heading, h, side = min(endpoints, key=lambda e: e[1])
         if self._endpoint is None:  # the goal just got blocked: h starts afresh
             self.h_min, self.stall = math.inf, 0
@@ -245,12 +310,11 @@ class TangentBug(Planner):
             self.stall += 1  # turning on the spot toward an endpoint is not a stall
         if self.stall >= p.stall_cycles or ahead < p.front_distance:
             self._start_following(obs, xy, side)
-            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+            return self._follow(obs, xy, goal, d_goal, theta_g, v)
         return steer(obs, heading, v)
 
     def _follow(self, obs: Observation, xy: np.ndarray, goal: np.ndarray, d_goal: float,
-                theta_g: float, free_len: float, endpoints: list[tuple[float, float, int]],
-                v: float) -> Command:
+                theta_g: float, v: float) -> Command:
         p = self.settings
         assert self.follower is not None
         if self.loop.update(xy):

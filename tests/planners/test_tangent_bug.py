@@ -1,19 +1,29 @@
-"""TangentBug: its local range function, and the harness worlds (wall, U).
+"""TangentBug: its local range function, and the harness worlds (wall, U); recorded episodes
+of TangentBug, Bug2 and DWA replayed against the commands of the code before issue 16.
 
-Runtime: ~1 s.
+Runtime: ~8 s (the replays: 3,690 cycles).
 """
 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from nav_bench.interface import Observation, StuckReason
+from nav_bench.interface import Observation, RobotInfo, SonarInfo, StuckReason
+from nav_bench.planners.base import Planner
 from nav_bench.planners.bug2 import Bug2
+from nav_bench.planners.dwa import DWA
 from nav_bench.planners.follow import FOLLOW, GO, RIGHT, UNREACHABLE, EchoMemory
-from nav_bench.planners.tangent_bug import TangentBug, blocked_interval_edges, range_function
+from nav_bench.planners.tangent_bug import (
+    TangentBug,
+    binned_range_function,
+    blocked_interval_edges,
+    range_bins,
+    range_function,
+)
 from nav_bench.testing.harness import BoxWorld, default_robot, observe, run, u_world, wall_world
 
 
@@ -153,3 +163,59 @@ def test_drives_through_a_door_wider_than_the_grown_robot(width: float) -> None:
                  seed=1, noise_std=0.01)
     assert result.reached and result.collisions == 0
     assert result.path_length < 8.5  # straight through (7.8 m to the goal's tolerance)
+
+
+# ----------------------------------------------------------------------------- fast paths = reference
+REPLAY = Path(__file__).resolve().parents[1] / "data" / "planner_replay"
+
+
+def test_binned_range_function_equals_the_full_one_bit_for_bit() -> None:
+    rng = np.random.default_rng(3)
+    bins = range_bins(120)
+    for n_pts in (0, 1, 7, 300):
+        # points from 1 mm (blocks half the circle) to 3 m away, bearings across the -pi cut
+        pts = rng.uniform(-3.0, 3.0, size=(n_pts, 2))
+        pts[: n_pts // 4] *= 1e-3
+        xy = rng.uniform(-1.0, 1.0, size=2)
+        for grow in (0.0, 0.28, 0.5):
+            full = range_function(pts + xy, xy, grow, bins)
+            np.testing.assert_array_equal(binned_range_function(pts + xy, xy, grow, bins), full)
+    # a point exactly on a bin's edge of blocking, at the wrap-around bearing
+    pts = np.array([[-2.0, 0.0], [-2.0, -1e-12], [0.5, 0.28]])
+    np.testing.assert_array_equal(binned_range_function(pts, np.zeros(2), 0.28, bins),
+                                  range_function(pts, np.zeros(2), 0.28, bins))
+
+
+def replay_commands(name: str, planner: Planner) -> tuple[np.ndarray, np.ndarray]:
+    """Feed the observations recorded in ``tests/data/planner_replay/<name>.npz`` to
+    ``planner``; its commands (N, 2) and the recorded ones. The files are real PyBullet
+    episodes (seed 0) played with main's code at cd00640, before issue 16's speed-ups, in the
+    format ``benchmarks/bench_tangent_bug.py --record`` writes."""
+    with np.load(REPLAY / f"{name}.npz") as stored:
+        rec = {key: stored[key] for key in stored.files}  # read once: an NpzFile inflates per access
+    sonar = SonarInfo(angles=rec["sonar_angles"], offsets=rec["sonar_offsets"], cone=float(rec["sonar_cone"]),
+                      min_range=float(rec["sonar_min_range"]), max_range=float(rec["sonar_max_range"]))
+    robot = RobotInfo(radius=float(rec["robot_radius"]), wheel_base=float(rec["wheel_base"]),
+                      v_max=float(rec["v_max"]), omega_max=float(rec["omega_max"]), sonar=sonar)
+    bounds = tuple(float(b) for b in rec["bounds"])
+    cmds = []
+    for i in range(len(rec["t"])):
+        obs = Observation(t=float(rec["t"][i]), pose=rec["pose"][i].copy(), goal=rec["goal"][i].copy(),
+                          ranges=rec["ranges"][i].copy(), robot=robot, bounds=bounds, dt=float(rec["dt"]))
+        if i == 0:
+            planner.reset(obs, np.random.default_rng(0))
+        cmd = planner.act(obs)
+        cmds.append([cmd.v, cmd.omega])
+    return np.asarray(cmds), rec["cmd"]
+
+
+@pytest.mark.parametrize("name", ["tangent_bug_congested_120s", "tangent_bug_clutter40_60s",
+                                  "bug2_congested_60s", "bug2_clutter40_60s", "dwa_congested_30s"])
+def test_replayed_episode_gives_the_reference_commands_bit_for_bit(name: str) -> None:
+    """The incremental echo memory, the binned range function and the per-cycle sharing change
+    no command of a recorded episode (1200 cycles of congested: memories of up to ~1100
+    echoes, boundary following and motion to goal); DWA shares the echo memory."""
+    planner = {"tangent_bug": TangentBug, "bug2": Bug2, "dwa": DWA}[name.rsplit("_", 2)[0]]()
+    got, want = replay_commands(name, planner)
+    assert got.shape == want.shape
+    np.testing.assert_array_equal(got, want)
