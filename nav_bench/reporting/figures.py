@@ -54,8 +54,9 @@ def success_and_spl(per_world: dict[str, list[GroupStats]], overall: Sequence[Gr
                 value, ci = (g.success, g.success_ci) if what == "success" else (g.spl, g.spl_ci)
                 xs.append(i - 0.4 + width * (j + 0.5))
                 ys.append(value)
-                lo.append(max(0.0, value - ci[0]) if not math.isnan(ci[0]) else 0.0)
-                hi.append(max(0.0, ci[1] - value) if not math.isnan(ci[1]) else 0.0)
+                below, above = error_bar(value, ci)
+                lo.append(below)
+                hi.append(above)
             ax.bar(xs, ys, width=width * 0.95, color=colors[name], label=name,
                    yerr=[lo, hi], capsize=2, error_kw={"lw": 0.8, "alpha": 0.8})
         ax.set_ylim(0, 1.05)
@@ -188,6 +189,16 @@ def trajectories(world_name: str, rows: Sequence[dict[str, Any]], runs: Sequence
     return path
 
 
+def error_bar(value: float, interval: tuple[float, float]) -> tuple[float, float]:
+    """The (below, above) lengths of an error bar from ``value`` to its interval's ends: never
+    negative (matplotlib refuses that), 0 for an unknown (NaN) end. At a success rate of 0 or 1
+    the Wilson interval's end equals the value only up to rounding (1 - 1e-16)."""
+    low, high = interval
+    below = 0.0 if math.isnan(low) else max(0.0, value - low)
+    above = 0.0 if math.isnan(high) else max(0.0, high - value)
+    return below, above
+
+
 def success_vs_smoothness(overall: Sequence[GroupStats], path: Path) -> Path | None:
     """Each parameter set as a point: success rate (y) against the smoothness of its successful
     episodes (x): integrated squared linear jerk (log scale) and angle over length. None when
@@ -204,7 +215,8 @@ def success_vs_smoothness(overall: Sequence[GroupStats], path: Path) -> Path | N
     for ax, (key, label, log) in zip(axes, panels, strict=True):
         for g, color in zip(sets, colors, strict=True):
             x = g.motion[key]
-            ax.errorbar([x], [g.success], yerr=[[g.success - g.success_ci[0]], [g.success_ci[1] - g.success]],
+            below, above = error_bar(g.success, g.success_ci)
+            ax.errorbar([x], [g.success], yerr=[[below], [above]],
                         fmt="o", color=color, ms=7, capsize=2, lw=0.8, label=g.set)
         if log and all(g.motion[key] > 0 for g in sets):
             ax.set_xscale("log")

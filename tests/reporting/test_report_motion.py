@@ -64,3 +64,17 @@ def test_rows_without_motion_fields_give_no_motion_section(tmp_path) -> None:
     text = write_report([folder]).read_text()
     assert "## Motion" not in text and "BARN score" not in text
     assert not (folder / "figures" / "success_vs_smoothness.png").exists()
+
+
+def test_error_bars_are_never_negative_at_a_success_rate_of_one() -> None:
+    # the default suite's report failed on this: Wilson's upper end at 10/10 is 1 - 1e-16
+    from nav_bench.reporting.figures import error_bar
+    from nav_bench.reporting.statistics import wilson_interval
+
+    assert error_bar(1.0, (0.5, 1.0 - 1e-16)) == (0.5, 0.0)
+    assert error_bar(0.0, (1e-17, 0.3)) == (0.0, 0.3)
+    assert error_bar(0.4, (float("nan"), 0.6)) == (0.0, pytest.approx(0.2))
+    for n in range(1, 60):
+        for k in (0, n):
+            below, above = error_bar(k / n, wilson_interval(k, n))
+            assert below >= 0.0 and above >= 0.0
