@@ -5,9 +5,8 @@ automaton moving amidst unknown obstacles of arbitrary shape", Algorithmica 2:40
 
 The m-line is the segment from the start (the pose at :meth:`Bug2.reset`) to the goal.
 
-* **Motion to goal**: turn toward the goal and drive. An echo (of this cycle, or of the last
-  ``memory_s`` s: a post between the front beams) in the corridor ahead closer than
-  ``hit_distance`` is a *hit point* H; the robot starts following the obstacle.
+* **Motion to goal**: turn toward the goal and drive. An echo in the corridor ahead closer
+  than ``hit_distance`` is a *hit point* H; the robot starts following the obstacle.
 * **Boundary following**: keep the obstacle on ``wall_side`` at ``wall_distance`` with the
   side and diagonal sonars (:class:`~nav_bench.planners.follow.WallFollower`).
 * **Leave**: when the robot crosses the m-line (or is within ``mline_tolerance`` of it) at
@@ -27,7 +26,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from nav_bench.interface import Command, Observation, StuckReason
+from nav_bench.interface import Command, Observation
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import (
     FOLLOW,
@@ -43,7 +42,6 @@ from nav_bench.planners.follow import (
     corridor_half_width,
     free_along,
     obstacle_ahead,
-    points_ahead,
     steer,
 )
 
@@ -119,10 +117,7 @@ class Bug2(Planner):
         half_width = corridor_half_width(obs.robot)
         cmd = STOP
         if self.mode == GO:
-            # an obstacle between the two front beams was on one of them a moment ago
-            ahead = min(obstacle_ahead(obs, p.hit_distance, half_width),
-                        points_ahead(self.memory.points(xy, p.hit_distance + 0.1), obs,
-                                     p.hit_distance, obs.robot.radius))
+            ahead = obstacle_ahead(obs, p.hit_distance, half_width)
             facing = abs(math.remainder(heading - float(obs.pose[2]), 2 * math.pi)) < math.radians(30)
             if ahead < p.hit_distance and facing and ahead < to_goal:
                 self.mode, self.hit, self.hit_goal_distance = FOLLOW, xy.copy(), to_goal
@@ -146,10 +141,6 @@ class Bug2(Planner):
                 cmd = self.follower.act(obs)
         self._prev_xy = xy.copy()
         return cmd
-
-    def stuck_reason(self) -> StuckReason | None:
-        """NO_PATH once the loop detector has found the goal unreachable (the robot stops)."""
-        return StuckReason.NO_PATH if getattr(self, "mode", None) == UNREACHABLE else None
 
     def debug_state(self) -> dict[str, Any]:
         """``mode``, ``hit_points`` [[x, y], ...] and ``m_line`` [[start], [goal]] (m)."""

@@ -60,21 +60,6 @@ def obstacle_ahead(obs: Observation, distance: float, half_width: float) -> floa
     return float(p[inside, 0].min()) if inside.any() else math.inf
 
 
-def points_ahead(points: np.ndarray, obs: Observation, distance: float, half_width: float) -> float:
-    """Like :func:`obstacle_ahead` for remembered world ``points`` (M, 2): distance (m, along
-    the heading from the robot centre) to the nearest one in the corridor ``0 < x < distance``,
-    ``|y| < half_width`` of the robot frame; ``inf`` if none. A post that is between the two
-    front beams now was usually on one of them a second ago."""
-    if len(points) == 0:
-        return math.inf
-    x, y, yaw = (float(v) for v in obs.pose[:3])
-    d = points - np.array([x, y])
-    c, s = math.cos(yaw), math.sin(yaw)
-    fwd, lat = d[:, 0] * c + d[:, 1] * s, -d[:, 0] * s + d[:, 1] * c
-    inside = (fwd > 0.0) & (fwd < distance) & (np.abs(lat) < half_width)
-    return float(fwd[inside].min()) if inside.any() else math.inf
-
-
 def free_along(points: np.ndarray, origin: np.ndarray, heading: float, length: float,
                half_width: float) -> bool:
     """True if none of the world ``points`` (M, 2) lies in the rectangle starting at ``origin``
@@ -195,31 +180,15 @@ def estimate_wall(obs: Observation, side: int, lost: float) -> WallEstimate | No
     return WallEstimate(distance=float(d[best].mean()), angle=wrap_angle(normal - side * math.pi / 2))
 
 
-def diagonal_ranges(obs: Observation, side: int, angle: float) -> tuple[float, float]:
-    """Readings (m, ``max_range`` if no echo) of the sonars nearest ``angle`` (rad) from the
-    heading toward ``side`` and toward the other side."""
-    s = obs.robot.sonar
-    r = np.where(echo_mask(obs), np.asarray(obs.ranges, dtype=float), s.max_range)
-    near = int(np.argmin(np.abs(s.angles - side * angle)))
-    far = int(np.argmin(np.abs(s.angles + side * angle)))
-    return float(r[near]), float(r[far])
-
-
 class WallFollower:
     """Keep a wall on one side at a set distance using only the sonars (a reactive follower).
 
     Rules, in order: (1) something close ahead (front corridor) -> turn on the spot away
     from the wall side, or toward it while rounding a corner (the wall was fitted within the
-    last ``corner_cycles`` cycles and is gone: the opening is on that side) or when the
-    wall side's diagonal sonar sees open space the other does not (:func:`diagonal_ranges`);
+    last ``corner_cycles`` cycles and is gone: the opening is on that side);
     (2) a wall fitted on the followed side (:func:`estimate_wall`) -> steer to make it
-    parallel at ``distance`` (or in the middle of a corridor narrower than twice that, so the
-    far wall does not push the robot into the near one); (3) no wall in that side's beams ->
-    circle the nearest echo of the last ``memory_s`` s on that side (within ``distance + 0.6``
-    m) at ``distance``: a corner or post that has fallen between the beams or behind the
-    last one is still followed; with no such echo, arc toward that side with radius
-    ``distance``. "Ahead" in rule (1) also counts remembered echoes in the robot-wide
-    corridor (:func:`points_ahead`), so a post between the two front beams is not driven into.
+    parallel at ``distance``; (3) no wall on that side (its end has passed) -> arc toward
+    that side with radius ``distance`` to round the corner.
 
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
@@ -228,92 +197,36 @@ class WallFollower:
         front: clearance ahead (m from the centre) below which the robot turns on the spot.
         k_dist: turn rate per metre of distance error, rad/s/m. k_angle: per rad of wall angle, 1/s.
         corner_cycles: how long (control cycles) after losing the wall rule (1) turns toward it.
-        memory_s: how long the follower remembers echoes (world frame from odometry, carved), s.
     """
 
     def __init__(self, side: int, distance: float, speed: float, front: float,
-                 k_dist: float = 2.0, k_angle: float = 2.0, corner_cycles: int = 30,
-                 memory_s: float = 6.0) -> None:
+                 k_dist: float = 2.0, k_angle: float = 2.0, corner_cycles: int = 30) -> None:
         if side not in (LEFT, RIGHT):
             raise InputError(f"wall follower side must be LEFT (+1) or RIGHT (-1), got {side!r}")
         self.side, self.distance, self.speed, self.front = side, distance, speed, front
         self.k_dist, self.k_angle = k_dist, k_angle
         self.corner_cycles = corner_cycles
         self._since_wall = corner_cycles + 1  # control cycles since a wall was last fitted
-        self._acquired = False  # a wall has been fitted on the followed side since start()
-        # the echoes of the last seconds: a wall or post that falls between the six beams
-        # (beside and behind the robot while it rounds it) is still known
-        self.memory = EchoMemory(memory_s, carve=True, spacing=0.03)
 
     def start(self) -> None:
         """Begin following a new boundary (forget the last wall seen)."""
         self._since_wall = self.corner_cycles + 1
-        self._acquired = False  # a wall has been fitted on the followed side since start()
-        self.memory.clear()
-
-    def remembered(self, obs: Observation) -> np.ndarray:
-        """(M, 2) remembered echoes (this cycle's included) in the robot frame, m."""
-        x, y, yaw = (float(v) for v in obs.pose[:3])
-        d = self.memory.points(np.array([x, y]), self.distance + 0.6) - np.array([x, y])
-        c, s = math.cos(yaw), math.sin(yaw)
-        return np.stack([c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]], axis=1)
-
-    def _orbit(self, obs: Observation, near: np.ndarray, v: float) -> Command:
-        """Keep the nearest remembered echo ``near`` (robot frame, m) on the wall side at
-        ``distance``: head along the tangent of the circle round it, corrected toward or away
-        from it by the distance error. Rounding a corner this way circles the corner itself
-        instead of an open-loop arc that loses a thin wall's end or a post."""
-        s = self.side
-        dist = float(np.hypot(*near))
-        bearing = math.atan2(near[1], near[0])
-        err = max(-0.8, min(0.8, 2.0 * (dist - self.distance)))
-        heading = wrap_angle(bearing - s * math.pi / 2 + s * err)
-        omega = 2.5 * heading
-        v = 0.6 * v * max(0.0, math.cos(heading))
-        return limit(v, omega, obs.robot)
 
     def act(self, obs: Observation) -> Command:
         robot = obs.robot
         s = self.side
         half_width = corridor_half_width(robot)
-        self.memory.add(obs)
-        pts = self.remembered(obs)
         wall = estimate_wall(obs, s, lost=self.distance + 0.6)
         self._since_wall = 0 if wall is not None else self._since_wall + 1
-        self._acquired |= wall is not None
-        ahead = min(obstacle_ahead(obs, self.front, half_width),
-                    points_ahead(self.memory.points(), obs, self.front, robot.radius))
-        if ahead < self.front:
-            # Turn away from the wall (a concave corner) unless the way on is on the wall side:
-            # rounding a corner that just ended there, or its diagonal sonar sees open space
-            # the other diagonal does not (the robot came round a convex corner too wide and
-            # now faces the far wall of the corridor it is turning into).
-            toward, away = diagonal_ranges(obs, s, math.pi / 4)
-            front_toward, front_away = diagonal_ranges(obs, s, math.radians(15))
+        if obstacle_ahead(obs, self.front, half_width) < self.front:
+            # rounding a corner that just ended on our side: the open side is the wall side
             rounding = 0 < self._since_wall <= self.corner_cycles
-            # open on the wall side at both the diagonal and the front sonar: the obstacle
-            # ahead leans to the far side (in clutter a lone diagonal gap is too narrow)
-            open_side = (toward > self.front + 0.3 and toward > away + 0.2
-                         and front_toward > front_away + 0.05)
-            # before any wall was on the followed side the obstacle ahead is the one just hit:
-            # turn away to put it on that side (turning toward the open side there left the
-            # wall on the other side and the robot arced round in open space)
-            toward_ok = self._acquired and (rounding or open_side) and toward >= away
-            turn = s if toward_ok else -s
-            return limit(0.0, turn * 0.6 * robot.omega_max, robot)
+            return limit(0.0, (s if rounding else -s) * 0.6 * robot.omega_max, robot)
         v = min(self.speed, robot.v_max)
-        if wall is None:  # no wall in the side beams: round the remembered end, if any
-            side_pts = pts[s * pts[:, 1] > 0.0]
-            if len(side_pts):
-                near = side_pts[int(np.argmin(np.hypot(side_pts[:, 0], side_pts[:, 1])))]
-                return self._orbit(obs, near, v)
+        if wall is None:  # the wall ended: round its end
             radius = max(self.distance, 1e-3)
             return limit(0.6 * v, s * 0.6 * v / radius, robot)
-        target = self.distance
-        other = estimate_wall(obs, -s, lost=self.distance + 0.6)
-        if other is not None:  # a corridor narrower than twice the distance: keep to its middle
-            target = min(target, 0.5 * (wall.distance + other.distance))
-        err = max(-0.5, min(0.5, wall.distance - target))
+        err = max(-0.5, min(0.5, wall.distance - self.distance))
         omega = s * self.k_dist * err + self.k_angle * wall.angle
         v *= max(0.25, 1.0 - abs(omega) / robot.omega_max)
         return limit(v, omega, robot)
@@ -327,123 +240,33 @@ class EchoMemory:
     cycle; remembering recent echoes lets a planner reason about what it just drove past.
     Odometry drift over a few seconds is small, so the points stay consistent.
 
-    With ``carve`` a point is also forgotten when a later reading sees through it: a cone
-    sonar returns the *nearest* surface in its cone, so a remembered point inside the inner
-    part of a cone (``carve_cone`` of its half angle) and nearer than the reading by more than
-    ``carve_margin`` is not there (it was a misplaced cone echo, or the robot's odometry moved
-    it). That keeps a long memory (``horizon = inf``) truthful. ``spacing`` > 0 keeps one point
-    per ``spacing`` m square (the newest), so a long memory stays small.
-
     Args:
-        horizon: how long an echo is kept, s (``inf``: until carved or dropped by capacity).
+        horizon: how long an echo is kept, s.
         capacity: at most this many points are kept (oldest dropped first).
-        carve: forget points later readings see through.
-        spacing: side of the de-duplication squares, m (0: keep every echo).
     """
 
-    def __init__(self, horizon: float, capacity: int = 4000, *, carve: bool = False,
-                 spacing: float = 0.0, carve_margin: float = 0.15, carve_cone: float = 0.8) -> None:
+    def __init__(self, horizon: float, capacity: int = 4000) -> None:
         self.horizon, self.capacity = horizon, capacity
-        self.carve, self.spacing = carve, spacing
-        self.carve_margin, self.carve_cone = carve_margin, carve_cone
-        self.clear()
+        self._xy = np.zeros((0, 2))
+        self._t = np.zeros(0)
 
     def clear(self) -> None:
         self._xy, self._t = np.zeros((0, 2)), np.zeros(0)
-        # (M,) int64 code of each point's de-duplication square (with spacing > 0); the stored
-        # points have distinct codes, so an add only compares its few new points against them
-        self._square = np.zeros(0, dtype=np.int64)
-        self._distances: tuple[tuple[float, float], np.ndarray] | None = None  # see points()
-
-    def _square_codes(self, xy: np.ndarray) -> np.ndarray:
-        """(M,) int64 code of the ``spacing`` m square of each point of ``xy`` (M, 2): the
-        square's column in the high 32 bits, its row in the low 32 (distinct for |index| < 2**31,
-        i.e. within 10**7 m of the origin at 5 cm)."""
-        key = np.floor(xy / self.spacing).astype(np.int64)
-        return key[:, 0] * (1 << 32) + key[:, 1]
-
-    def _carve(self, obs: Observation) -> None:
-        """Drop remembered points that this cycle's readings see through (vectorised over
-        points x sonars). Only points that some reading could see through are examined: those
-        within the longest reading less the margin of a sonar's origin (a box round the robot
-        that contains them), so the cost does not grow with the whole memory."""
-        if len(self._xy) == 0:
-            return
-        s = obs.robot.sonar
-        x, y, yaw = (float(v) for v in obs.pose[:3])
-        r = np.where(np.isfinite(obs.ranges), np.asarray(obs.ranges, dtype=float), s.max_range)
-        reach = float(r.max()) - self.carve_margin
-        if not reach > 0.0:
-            return
-        reach += float(np.hypot(s.offsets[:, 0], s.offsets[:, 1]).max()) + 1e-6  # from the centre
-        near = np.flatnonzero((np.abs(self._xy[:, 0] - x) < reach) & (np.abs(self._xy[:, 1] - y) < reach))
-        if len(near) == 0:
-            return
-        c, si = math.cos(yaw), math.sin(yaw)
-        ox = x + c * s.offsets[:, 0] - si * s.offsets[:, 1]  # (K,) sonar origins
-        oy = y + si * s.offsets[:, 0] + c * s.offsets[:, 1]
-        dx = self._xy[near, 0][:, None] - ox[None, :]  # (N, K)
-        dy = self._xy[near, 1][:, None] - oy[None, :]
-        dist = np.hypot(dx, dy)
-        # the bearing test only for the (point, sonar) pairs nearer than that reading
-        i, k = np.nonzero(dist < r[None, :] - self.carve_margin)
-        if len(i) == 0:
-            return
-        off = np.abs(np.remainder(np.arctan2(dy[i, k], dx[i, k]) - (yaw + s.angles)[k] + math.pi,
-                                  2 * math.pi) - math.pi)
-        seen = i[off <= self.carve_cone * s.cone / 2]
-        if len(seen):
-            keep = np.ones(len(self._xy), dtype=bool)
-            keep[near[seen]] = False
-            self._drop(keep)
-
-    def _drop(self, keep: np.ndarray) -> None:
-        """Keep only the points where ``keep`` (M,) bool is True."""
-        self._xy, self._t = self._xy[keep], self._t[keep]
-        self._distances = None
-        if self.spacing > 0:
-            self._square = self._square[keep]
 
     def add(self, obs: Observation) -> None:
-        """Store this cycle's echoes and forget those older than the horizon (or seen through).
-
-        With ``spacing`` the newest point of each square is kept, in the order the kept points
-        were added (the de-duplication compares only this cycle's echoes with the memory)."""
-        if self.carve:
-            self._carve(obs)
+        """Store this cycle's echoes and forget those older than the horizon."""
         pts = world_echoes(obs)
-        if len(self._t) and not self._t[0] >= obs.t - self.horizon:  # the oldest is first
-            self._drop(self._t >= obs.t - self.horizon)
-        t_new = np.full(len(pts), obs.t)
-        if not obs.t >= obs.t - self.horizon:  # only a NaN time or a negative horizon drops new echoes
-            pts, t_new = pts[:0], t_new[:0]
-        if self.spacing > 0 and len(pts):
-            codes = self._square_codes(pts)
-            # the last echo of each square among this cycle's (at most one per sonar: a loop
-            # over the readings, not over the memory)
-            seen: set[int] = set()
-            last = [i for i in range(len(codes) - 1, -1, -1)
-                    if not (int(codes[i]) in seen or seen.add(int(codes[i])))][::-1]
-            pts, t_new, codes = pts[last], t_new[last], codes[last]
-            replaced = (self._square[:, None] == codes[None, :]).any(axis=1)
-            if replaced.any():  # the newer echo of a square replaces the remembered one
-                self._drop(~replaced)
-            self._square = np.concatenate([self._square, codes])[-self.capacity:]
-        self._xy = np.concatenate([self._xy, pts])[-self.capacity:]
-        self._t = np.concatenate([self._t, t_new])[-self.capacity:]
-        self._distances = None
+        xy = np.concatenate([self._xy, pts])
+        t = np.concatenate([self._t, np.full(len(pts), obs.t)])
+        keep = t >= obs.t - self.horizon
+        self._xy, self._t = xy[keep][-self.capacity:], t[keep][-self.capacity:]
 
     def points(self, center: np.ndarray | None = None, radius: float = math.inf) -> np.ndarray:
-        """(M, 2) remembered points, optionally only those within ``radius`` m of ``center``.
-
-        The points' distances from the last ``center`` are kept until the memory changes: a
-        planner asks several times a cycle from where the robot is."""
+        """(M, 2) remembered points, optionally only those within ``radius`` m of ``center``."""
         if center is None or not math.isfinite(radius):
             return self._xy.copy()
-        at = (float(center[0]), float(center[1]))
-        if self._distances is None or self._distances[0] != at:
-            self._distances = (at, np.hypot(self._xy[:, 0] - at[0], self._xy[:, 1] - at[1]))
-        return self._xy[self._distances[1] <= radius]
+        d = np.hypot(self._xy[:, 0] - center[0], self._xy[:, 1] - center[1])
+        return self._xy[d <= radius]
 
     def __len__(self) -> int:
         return len(self._xy)
@@ -451,16 +274,10 @@ class EchoMemory:
 
 # ----------------------------------------------------------------------------- loops
 class LoopDetector:
-    """Has the robot come back to where it started following a boundary, going the same way?
+    """Has the robot come back to where it started following a boundary?
 
     Armed at a point; fires when the robot returns within ``radius`` m of it after having
-    been farther than ``2 * radius``, having travelled at least ``min_length`` m, and moving
-    (direction of its last 5 cm of displacement, not its yaw: turning on the spot sweeps the
-    yaw) within 60 deg of the direction in which it first left the ``radius`` circle, and
-    having turned by more than 1.5 pi in all (a lap round a boundary turns by 2 pi). The
-    direction tests tell a lap from a U-turn: following a wall into a dead-end pocket brings
-    the robot back past the arming point on the pocket's other wall, in a 1 m corridor within
-    0.2 m of it, but going the opposite way, having turned by pi.
+    been farther than ``2 * radius`` and having travelled at least ``min_length`` m.
     """
 
     def __init__(self, radius: float, min_length: float) -> None:
@@ -469,43 +286,23 @@ class LoopDetector:
         self._left = False
         self._travel = 0.0
         self._last: np.ndarray | None = None
-        self._direction: float | None = None  # direction of the last displacement, rad
-        self._exit_direction: float | None = None
-        self._anchor = np.zeros(2)
-        self._winding = 0.0  # total turn of the direction of motion since arming, rad
 
     def arm(self, xy: np.ndarray) -> None:
         self.origin = np.asarray(xy, dtype=float).copy()
         self._left, self._travel, self._last = False, 0.0, self.origin.copy()
-        self._direction = self._exit_direction = None
-        self._anchor = self.origin.copy()
-        self._winding = 0.0
 
     def disarm(self) -> None:
         self.origin = None
 
     def update(self, xy: np.ndarray) -> bool:
-        """Feed the current position; True when a full lap is detected."""
+        """Feed the current position; True when a full loop is detected."""
         if self.origin is None:
             return False
         xy = np.asarray(xy, dtype=float)
         if self._last is not None:
             self._travel += float(np.hypot(*(xy - self._last)))
         self._last = xy.copy()
-        step = xy - self._anchor
-        if float(np.hypot(*step)) >= 0.05:  # a direction from 5 cm of motion, not odometry jitter
-            direction = math.atan2(step[1], step[0])
-            if self._direction is not None:
-                self._winding += wrap_angle(direction - self._direction)
-            self._direction, self._anchor = direction, xy.copy()
         d = float(np.hypot(*(xy - self.origin)))
-        if self._exit_direction is None and d > self.radius:
-            self._exit_direction = self._direction
         if d > 2 * self.radius:
             self._left = True
-        if not (self._left and d < self.radius and self._travel >= self.min_length):
-            return False
-        if self._direction is None or self._exit_direction is None:
-            return True
-        return (abs(wrap_angle(self._direction - self._exit_direction)) < math.radians(60)
-                and abs(self._winding) > 1.5 * math.pi)
+        return self._left and d < self.radius and self._travel >= self.min_length

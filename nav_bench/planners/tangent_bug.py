@@ -5,9 +5,8 @@ algorithm", The International Journal of Robotics Research 17(9):934-953, 1998.
 
 TangentBug assumes a 360 deg range sensor that shows the visible boundary of obstacles
 within range ``R``. Six sonars sample only six narrow cones, so the *local range
-function* is built from a memory (:class:`~nav_bench.planners.follow.EchoMemory`) of the
-echoes in the world frame (from the odometry pose), kept until a later reading sees through
-them (or for ``memory_s`` seconds when that is set):
+function* is built from a short memory (:class:`~nav_bench.planners.follow.EchoMemory`) of
+the echoes of the last ``memory_s`` seconds in the world frame (from the odometry pose):
 each echo within ``R`` at distance ``d`` blocks the directions within
 ``asin((radius + clearance) / d)`` of its bearing (the obstacle grown by the robot), and
 ``rho(theta)`` is the distance of the nearest echo blocking ``theta`` (free directions
@@ -20,20 +19,17 @@ less than TangentBug assumes, which is the point of comparing it on this robot.
   The robot heads for the endpoint minimising the heuristic distance
   ``h = |x - O| + |O - goal|``. When ``h`` has not improved on its minimum by ``h_epsilon``
   for ``stall_cycles`` cycles in which the robot moved (it *stops decreasing*), boundary following starts in the
-  direction of that endpoint. (Also, as a safety reflex, when an echo, of this cycle or remembered, lies in the
-  corridor ahead closer than ``front_distance``: the sparse sonars miss an obstacle between
-  cones.) Echoes are grown by ``radius + clearance`` (0.28 m on the 0.18 m diffbot), so a gap
-  wider than 0.56 m stays open; with the former 0.35 m growth a cone echo placed a few cm into a 0.8 m
-  door closed it.
+  direction of that endpoint. (Also, as a safety reflex, when an echo lies in the corridor
+  ahead closer than ``front_distance``: the sparse sonars can miss an obstacle between cones.)
 * **Boundary following**: approach the boundary (head for the nearest remembered echo until
   a wall is fitted on the chosen side within ``wall_distance + 0.1`` m or something is
   closer ahead than ``front_distance``), then keep it at
   ``wall_distance`` on that side with the sonar wall follower. ``d_followed`` is the
   smallest goal distance of the near echoes (within ``wall_distance + 0.6`` m) seen ahead
   and on the followed side since following began;
-  ``d_reach`` is the goal distance of the closest point of the free space the sonars see now
-  (:meth:`TangentBug._d_reach`: each sonar's axis up to its reading less the grown radius).
-  Leave when ``d_reach < d_followed - leave_margin`` (``d_followed`` from earlier cycles).
+  ``d_reach`` is the goal distance of the farthest free point toward the goal
+  (``d_goal - min(free length, d_goal)`` from the range function, evaluated only when the
+  goal direction lies within the sonars' field of view). Leave when ``d_reach < d_followed - leave_margin``.
 * **Unreachable**: back where following began (``loop_radius``) after a lap -> stop and emit
   ``unreachable``.
 
@@ -43,12 +39,11 @@ Each switch to boundary following emits a ``replan`` event.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
 
-from nav_bench.interface import Command, Observation, StuckReason, wrap_angle
+from nav_bench.interface import Command, Observation, wrap_angle
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import (
     FOLLOW,
@@ -65,76 +60,23 @@ from nav_bench.planners.follow import (
     echo_mask,
     estimate_wall,
     obstacle_ahead,
-    points_ahead,
     steer,
 )
 
 
-@dataclass(frozen=True)
-class PolarEchoes:
-    """Remembered echoes seen from one position, for the local range function.
-
-    Attributes:
-        dist: (M,) distance of each echo, m (at least 1e-6).
-        bearing: (M,) its world direction, rad in [-pi, pi].
-        half: (M,) half angle its grown disc subtends, rad in [0, pi/2].
-    """
-
-    dist: np.ndarray
-    bearing: np.ndarray
-    half: np.ndarray
-
-
-def polar_echoes(points: np.ndarray, xy: np.ndarray, grow: float) -> PolarEchoes:
-    """``points`` (M, 2) seen from ``xy`` (2,), each grown by ``grow`` m (computed once a cycle)."""
-    d = points - xy
-    dist = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)
-    return PolarEchoes(dist, np.arctan2(d[:, 1], d[:, 0]), np.arcsin(np.minimum(1.0, grow / dist)))
-
-
-def range_function(points: np.ndarray | PolarEchoes, xy: np.ndarray, grow: float,
+def range_function(points: np.ndarray, xy: np.ndarray, grow: float,
                    directions: np.ndarray) -> np.ndarray:
     """``rho`` (D,) of the local range function at ``xy``: for each direction (rad, world), the
     distance (m) of the nearest point of ``points`` (M, 2) whose grown disc (radius ``grow``)
-    the ray passes; ``inf`` where none does. ``points`` may be given as :func:`polar_echoes`
-    (then ``xy`` and ``grow`` are not used). Cost D x M: for a few directions; the full circle
-    of bins is :func:`binned_range_function`."""
-    e = points if isinstance(points, PolarEchoes) else polar_echoes(points, xy, grow)
-    if len(e.dist) == 0:
+    the ray passes; ``inf`` where none does."""
+    if len(points) == 0:
         return np.full(len(directions), np.inf)
-    diff = np.abs(np.remainder(directions[:, None] - e.bearing[None, :] + math.pi, 2 * math.pi) - math.pi)
-    return np.where(diff <= e.half[None, :], e.dist[None, :], np.inf).min(axis=1)
-
-
-def range_bins(n: int) -> np.ndarray:
-    """(n,) directions of the binned range function, rad: ``-pi + 2 pi k / n``, CCW."""
-    return np.linspace(-math.pi, math.pi, n, endpoint=False)
-
-
-def binned_range_function(points: np.ndarray | PolarEchoes, xy: np.ndarray, grow: float,
-                          bins: np.ndarray) -> np.ndarray:
-    """:func:`range_function` over the directions ``bins`` = :func:`range_bins` ``(n)``, equal
-    to it bit for bit, at a cost that grows with the bins each point blocks, not n x M.
-
-    A point blocks the bins within its half angle of its bearing, a run of consecutive bins:
-    only that run, widened by one bin each side against rounding, is tested, with the same
-    expression as :func:`range_function`."""
-    n = len(bins)
-    e = points if isinstance(points, PolarEchoes) else polar_echoes(points, xy, grow)
-    if len(e.dist) == 0:
-        return np.full(n, np.inf)
-    step = 2 * math.pi / n
-    lo = np.floor((e.bearing - e.half + math.pi) / step).astype(np.int64) - 1
-    hi = np.ceil((e.bearing + e.half + math.pi) / step).astype(np.int64) + 1
-    count = np.minimum(hi - lo + 1, n)  # (M,) candidate bins per point; n covers the circle once
-    owner = np.repeat(np.arange(len(e.dist)), count)  # (C,) the point of each candidate
-    first = np.cumsum(count) - count
-    k = (lo[owner] + np.arange(len(owner)) - first[owner]) % n  # (C,) candidate bin
-    diff = np.abs(np.remainder(bins[k] - e.bearing[owner] + math.pi, 2 * math.pi) - math.pi)
-    hit = diff <= e.half[owner]
-    rho = np.full(n, np.inf)
-    np.minimum.at(rho, k[hit], e.dist[owner[hit]])
-    return rho
+    d = points - xy
+    dist = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)
+    bearing = np.arctan2(d[:, 1], d[:, 0])
+    half = np.arcsin(np.minimum(1.0, grow / dist))
+    diff = np.abs(np.remainder(directions[:, None] - bearing[None, :] + math.pi, 2 * math.pi) - math.pi)
+    return np.where(diff <= half[None, :], dist[None, :], np.inf).min(axis=1)
 
 
 def blocked_interval_edges(blocked: np.ndarray, k: int) -> tuple[int, int] | None:
@@ -158,10 +100,9 @@ class TangentBug(Planner):
         Param("v_max", 0.4, "m/s", "cruise speed (capped by the robot's limit)", minimum=0.0),
         Param("sensing_range", 0.0, "m", "range R of the local range function; 0 = the sonar max range",
               minimum=0.0),
-        Param("memory_s", 0.0, "s", "how long sonar echoes are kept to build the range function; "
-              "0 = until a later reading sees through them", minimum=0.0),
-        Param("clearance", 0.10, "m", "extra clearance added to the robot radius when growing echoes "
-              "(a gap wider than 2 (radius + clearance) stays open)",
+        Param("memory_s", 8.0, "s", "how long sonar echoes are kept to build the range function",
+              minimum=0.0),
+        Param("clearance", 0.15, "m", "extra clearance added to the robot radius when growing echoes",
               minimum=0.0),
         Param("directions", 120, "-", "number of directions of the local range function", minimum=8),
         Param("h_epsilon", 0.05, "m", "the heuristic must beat its minimum by this to count as decreasing",
@@ -179,10 +120,7 @@ class TangentBug(Planner):
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
         p = self.settings
-        # a persistent memory cleaned by later readings: with an 8 s horizon the wall behind
-        # the robot was forgotten while it followed the boundary, the goal direction looked
-        # free, and it left the boundary only to hit the same wall again
-        self.memory = EchoMemory(p.memory_s or math.inf, carve=True, spacing=0.05)
+        self.memory = EchoMemory(p.memory_s)
         self.mode = GO
         self.h_min = math.inf
         self.stall = 0
@@ -191,25 +129,14 @@ class TangentBug(Planner):
         self.acquired = False
         self.d_followed = math.inf
         self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius)
-        self.bins = range_bins(p.directions)
+        self.bins = np.linspace(-math.pi, math.pi, p.directions, endpoint=False)
         self._endpoint: list[float] | None = None
         self._prev_xy = np.asarray(obs.pose[:2], dtype=float).copy()
         self._follow_starts: list[list[float]] = []
-        self._polar_at: tuple[float, float] | None = None  # (x, y) of _polar_echoes; None: stale
-        self._polar_echoes = polar_echoes(np.zeros((0, 2)), np.zeros(2), 0.0)
 
     # -- the local range function ------------------------------------------------------------------
     def _sensing_range(self, obs: Observation) -> float:
         return self.settings.sensing_range or obs.robot.sonar.max_range
-
-    def _polar(self, obs: Observation, xy: np.ndarray) -> PolarEchoes:
-        """The remembered echoes within the sensing range as seen from ``xy``: computed once
-        a cycle (:meth:`act` marks it stale when it adds this cycle's echoes)."""
-        if self._polar_at != (float(xy[0]), float(xy[1])):
-            grow = obs.robot.radius + self.settings.clearance
-            self._polar_at = (float(xy[0]), float(xy[1]))
-            self._polar_echoes = polar_echoes(self.memory.points(xy, self._sensing_range(obs)), xy, grow)
-        return self._polar_echoes
 
     def _endpoints(self, obs: Observation, xy: np.ndarray, goal: np.ndarray
                    ) -> tuple[bool, float, list[tuple[float, float, int]]]:
@@ -217,14 +144,14 @@ class TangentBug(Planner):
         (heading rad, h m, side to keep the obstacle on))."""
         r_sense = self._sensing_range(obs)
         grow = obs.robot.radius + self.settings.clearance
-        pts = self._polar(obs, xy)
+        pts = self.memory.points(xy, r_sense)
         d_goal = float(np.hypot(*(goal - xy)))
         theta_g = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
         rho_goal = float(range_function(pts, xy, grow, np.array([theta_g]))[0])
         free_len = min(d_goal, r_sense, rho_goal)
         if rho_goal >= d_goal:
             return True, free_len, []
-        rho = binned_range_function(pts, xy, grow, self.bins)
+        rho = range_function(pts, xy, grow, self.bins)
         blocked = rho < d_goal
         n = len(self.bins)
         k_goal = int(np.argmin(np.abs(np.remainder(self.bins - theta_g + math.pi, 2 * math.pi) - math.pi)))
@@ -241,26 +168,6 @@ class TangentBug(Planner):
             out.append((heading, dist + float(np.hypot(*(goal - o))), side))
         return False, free_len, out
 
-    def _d_reach(self, obs: Observation, xy: np.ndarray, goal: np.ndarray) -> float:
-        """TangentBug's ``d_reach`` (m): the goal distance of the closest point the robot can
-        *see* it can reach. The visible free set of six sonars is the segment along each
-        sonar's axis up to its reading (``R`` without an echo) less the grown robot radius,
-        cut where the echo memory blocks that direction. Directions no sonar covers are not
-        counted: counting them free (as the range function must, to move at all) made
-        ``d_reach`` fall by ``R`` whenever the goal was beside the robot, and the robot left
-        every boundary at once and hit it again."""
-        s = obs.robot.sonar
-        grow = obs.robot.radius + self.settings.clearance
-        r_sense = self._sensing_range(obs)
-        ang = float(obs.pose[2]) + s.angles
-        ranges = np.where(echo_mask(obs), np.asarray(obs.ranges, dtype=float), r_sense)
-        rho = range_function(self._polar(obs, xy), xy, grow, ang)
-        length = np.clip(np.minimum(np.minimum(ranges, r_sense) - grow, rho - grow), 0.0, None)  # (K,)
-        u = np.stack([np.cos(ang), np.sin(ang)], axis=1)
-        along = np.clip((goal - xy) @ u.T, 0.0, length)  # closest point of each free segment
-        closest = xy + along[:, None] * u
-        return float(np.hypot(*(closest - goal).T).min())
-
     # -- control -----------------------------------------------------------------------------------
     def _start_following(self, obs: Observation, xy: np.ndarray, side: int) -> None:
         p = self.settings
@@ -275,31 +182,28 @@ class TangentBug(Planner):
         p = self.settings
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         self.memory.add(obs)
-        self._polar_at = None  # the memory changed
         v = min(p.v_max, obs.robot.v_max)
         d_goal = float(np.hypot(*(goal - xy)))
         theta_g = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
+        free, free_len, endpoints = self._endpoints(obs, xy, goal)
         moved = float(np.hypot(*(xy - self._prev_xy)))
         self._prev_xy = xy.copy()
-        if self.mode == FOLLOW:  # following needs no endpoints: not computed
-            return self._follow(obs, xy, goal, d_goal, theta_g, v)
+        if self.mode == FOLLOW:
+            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
         if self.mode == UNREACHABLE:
             return STOP
-        free, _, endpoints = self._endpoints(obs, xy, goal)
-        ahead = min(obstacle_ahead(obs, p.front_distance, corridor_half_width(obs.robot)),
-                    points_ahead(self.memory.points(xy, p.front_distance + 0.1), obs,
-                                 p.front_distance, obs.robot.radius))
+        ahead = obstacle_ahead(obs, p.front_distance, corridor_half_width(obs.robot))
         if free:
             self._endpoint = None
             self.h_min, self.stall = min(self.h_min, d_goal), 0
             if ahead < min(p.front_distance, d_goal):  # an obstacle the memory did not show
                 side = RIGHT if wrap_angle(theta_g - float(obs.pose[2])) >= 0 else LEFT
                 self._start_following(obs, xy, side)
-                return self._follow(obs, xy, goal, d_goal, theta_g, v)
+                return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
             return steer(obs, theta_g, arrival_speed(d_goal, v))
         if not endpoints:  # enclosed in every direction within range
             self._start_following(obs, xy, self.side)
-            return self._follow(obs, xy, goal, d_goal, theta_g, v)
+            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
         heading, h, side = min(endpoints, key=lambda e: e[1])
         if self._endpoint is None:  # the goal just got blocked: h starts afresh
             self.h_min, self.stall = math.inf, 0
@@ -310,30 +214,32 @@ class TangentBug(Planner):
             self.stall += 1  # turning on the spot toward an endpoint is not a stall
         if self.stall >= p.stall_cycles or ahead < p.front_distance:
             self._start_following(obs, xy, side)
-            return self._follow(obs, xy, goal, d_goal, theta_g, v)
+            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
         return steer(obs, heading, v)
 
     def _follow(self, obs: Observation, xy: np.ndarray, goal: np.ndarray, d_goal: float,
-                theta_g: float, v: float) -> Command:
+                theta_g: float, free_len: float, endpoints: list[tuple[float, float, int]],
+                v: float) -> Command:
         p = self.settings
         assert self.follower is not None
-        if self.loop.update(xy):
-            self.mode = UNREACHABLE
-            self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
-            return STOP
-        d_reach = self._d_reach(obs, xy, goal)
-        if self.acquired and d_reach < self.d_followed - p.leave_margin:
-            self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
-            self.loop.disarm()
-            return steer(obs, theta_g, arrival_speed(d_goal, v))
-        # after the leave test: d_followed is what the boundary showed *before* this cycle.
-        # Near echoes ahead and on the followed side belong to the followed obstacle.
+        # near echoes ahead and on the followed side belong to the followed obstacle
         rel = self.side * obs.robot.sonar.angles
         near = np.asarray(obs.ranges) < p.wall_distance + 0.6
         side_echo = echo_mask(obs) & near & (rel > math.radians(-20))
         if side_echo.any():
             hits = obs.sonar_hits()[side_echo]
             self.d_followed = min(self.d_followed, float(np.hypot(*(hits - goal).T).min()))
+        if self.loop.update(xy):
+            self.mode = UNREACHABLE
+            self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
+            return STOP
+        half_fov = float(np.max(np.abs(obs.robot.sonar.angles))) + obs.robot.sonar.cone / 2
+        in_view = abs(wrap_angle(theta_g - float(obs.pose[2]))) <= half_fov
+        d_reach = d_goal - free_len if in_view else math.inf
+        if self.acquired and d_reach < self.d_followed - p.leave_margin:
+            self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
+            self.loop.disarm()
+            return steer(obs, theta_g, arrival_speed(d_goal, v))
         if not self.acquired:  # first approach the boundary: head for the nearest echo
             wall = estimate_wall(obs, self.side, lost=p.wall_distance + 0.6)
             close = wall is not None and wall.distance <= p.wall_distance + 0.1
@@ -344,10 +250,6 @@ class TangentBug(Planner):
                 nearest = pts[int(np.argmin(np.hypot(*(pts - xy).T)))]
                 return steer(obs, math.atan2(nearest[1] - xy[1], nearest[0] - xy[0]), v)
         return self.follower.act(obs)
-
-    def stuck_reason(self) -> StuckReason | None:
-        """NO_PATH once the loop detector has found the goal unreachable (the robot stops)."""
-        return StuckReason.NO_PATH if getattr(self, "mode", None) == UNREACHABLE else None
 
     def debug_state(self) -> dict[str, Any]:
         """``mode``, ``memory`` (M, 2) remembered echoes, ``follow_starts`` [[x, y], ...] where
