@@ -15,7 +15,7 @@ Per parameter set (label) and overall it reports
 
 Run::
 
-    PYTHONPATH=. python benchmarks/fidelity_suite.py --ref results/paper/default_suite \\
+    PYTHONPATH=. python benchmarks/fidelity_suite.py --ref results/fidelity/run_240 \\
         --run 120=results/fidelity/run_120 --run 60=results/fidelity/run_60 --out results/fidelity
 
 Writes ``suite.md`` and ``suite.json`` in ``--out`` (``--stem`` to rename them).
@@ -228,7 +228,7 @@ def report(ref_name: str, results: dict[str, dict], by_world: dict[str, dict],
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--ref", default="results/paper/default_suite",
+    parser.add_argument("--ref", default="results/fidelity/run_240",
                         help="results folder of the reference rate")
     parser.add_argument("--ref-name", default="240")
     parser.add_argument("--run", action="append", default=[], metavar="NAME=FOLDER",
