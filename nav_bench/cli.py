@@ -250,10 +250,9 @@ def cmd_import(args: argparse.Namespace) -> int:
 
 
 def cmd_perf(args: argparse.Namespace) -> int:
-    from nav_bench.paths import find
     from nav_bench.perf import run_perf
 
-    run_perf(world_file=find("world", args.world).given, seconds=args.seconds)
+    run_perf(world_file=args.world, seconds=args.seconds)
     return 0
 
 

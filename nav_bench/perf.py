@@ -22,6 +22,7 @@ import numpy as np
 from nav_bench.episode import EpisodeSettings
 from nav_bench.episode.loop import run_episode
 from nav_bench.interface import Command
+from nav_bench.paths import find
 from nav_bench.sim.session import SimSession
 from nav_bench.sim.simulation import Simulation
 from nav_bench.specs import PlannerSetSpec, WorldSpec, load_robot
@@ -111,17 +112,19 @@ def run_perf(world_file: str = "worlds/paper/open_room.yaml", seconds: float | N
     print(f"  of which Bullet's own step:        {100 * bare / bullet:9.0f} % (the rest: motor "
           f"targets, wheel encoders, contact checks)")
 
-    world = load_world(world_file)
-    rtf, not_physics = _episode_figures(world, world_file, "goal_seek", seconds)
+    # worlds by name, found in the project or the installed package from any working folder
+    found = find("world", world_file)
+    rtf, not_physics = _episode_figures(load_world(found.path), found.given, "goal_seek", seconds)
     # a longer episode with the paper's method, whose grids make planning a real share
-    _episode_figures(load_world(STEADY_WORLD), STEADY_WORLD, "eopc", None, repeats=3)
+    steady = find("world", STEADY_WORLD)
+    _episode_figures(load_world(steady.path), steady.given, "eopc", None, repeats=3)
 
     empty = WorldSpec.model_validate({"name": "empty_40", "size": [40, 40], "start": [2, 2, 0],
                                       "goal": [39, 39]})
     rate_empty = _stepping_rate(empty)
     rate_clutter = _stepping_rate(clutter_world(1000))
     ratio = rate_empty / rate_clutter
-    imported = load_world(IMPORTED_WORLD)
+    imported = load_world(find("world", IMPORTED_WORLD).path)
     rate_imported = _stepping_rate(imported)
     rate_imported_empty = _stepping_rate(WorldSpec.model_validate(
         {"name": "empty_like_imported", "size": list(imported.size), "start": imported.start,
