@@ -11,6 +11,7 @@ import pytest
 from nav_bench.errors import InputError
 from nav_bench.interface import SonarInfo
 from nav_bench.mapping import GridFrame, OccupancyGrid, log_odds_to_values
+from tests.helpers.sonar_scene import brute_force
 
 # these tests pin the three-band model (its numbers are exact and simple); the default Elfes
 # model is tested in test_sonar_model.py
@@ -103,32 +104,6 @@ def test_cells_outside_the_grid_are_ignored() -> None:
     assert np.count_nonzero(grid.values() != 50) == 1
 
 
-def brute_force_update(grid: OccupancyGrid, pose: np.ndarray, ranges: np.ndarray,
-                       sonar: SonarInfo) -> np.ndarray:
-    """The same inverse sensor model, cell by cell over the whole grid (reference)."""
-    lo = grid.log_odds.copy()
-    rows, cols = np.mgrid[0:grid.shape[0], 0:grid.shape[1]]
-    centres = grid.cell_center(rows, cols)
-    x, y, yaw = pose
-    half_t, cell = grid.hit_thickness / 2, grid.cell
-    for k, r in enumerate(ranges):
-        ox, oy = sonar.offsets[k]
-        sx = x + math.cos(yaw) * ox - math.sin(yaw) * oy
-        sy = y + math.sin(yaw) * ox + math.cos(yaw) * oy
-        a = yaw + sonar.angles[k]
-        dx, dy = centres[..., 0] - sx, centres[..., 1] - sy
-        along = dx * math.cos(a) + dy * math.sin(a)
-        lateral = np.abs(dy * math.cos(a) - dx * math.sin(a))
-        cone = (along > 0) & (lateral <= along * math.tan(sonar.cone / 2) + cell / 2)
-        dist = np.hypot(dx, dy)
-        echo = r < sonar.max_range
-        free = cone & ((dist < r - half_t) if echo else (dist <= sonar.max_range))
-        occ = cone & (np.abs(dist - r) <= half_t) & echo
-        lo = np.clip(lo + np.where(occ, grid.l_occ, np.where(free, grid.l_free, 0.0)),
-                     grid.l_min, grid.l_max)
-    return lo
-
-
 def test_vectorised_update_equals_the_cell_by_cell_model() -> None:
     rng = np.random.default_rng(3)
     angles = np.radians([-90.0, -45.0, -15.0, 15.0, 45.0, 90.0])
@@ -138,7 +113,7 @@ def test_vectorised_update_equals_the_cell_by_cell_model() -> None:
     for _ in range(15):
         pose = np.array([rng.uniform(0.5, 5.5), rng.uniform(0.5, 4.5), rng.uniform(-np.pi, np.pi)])
         ranges = np.where(rng.random(6) < 0.3, 3.0, rng.uniform(0.1, 2.9, 6))
-        expected = brute_force_update(grid, pose, ranges, sonar)
+        expected = brute_force(grid, pose, ranges, sonar)
         grid.update(pose, ranges, sonar)
         np.testing.assert_allclose(grid.log_odds, expected, atol=1e-12)
     np.testing.assert_array_equal(grid.values(), log_odds_to_values(grid.log_odds))
