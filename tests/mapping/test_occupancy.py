@@ -11,7 +11,6 @@ import pytest
 from nav_bench.errors import InputError
 from nav_bench.interface import SonarInfo
 from nav_bench.mapping import GridFrame, OccupancyGrid, log_odds_to_values
-from tests.helpers.sonar_scene import brute_force
 
 # these tests pin the three-band model (its numbers are exact and simple); the default Elfes
 # model is tested in test_sonar_model.py
@@ -102,21 +101,6 @@ def test_cells_outside_the_grid_are_ignored() -> None:
     assert value_at(grid, 1.95, 1.05) == FREE_ONCE  # the part inside is updated
     grid.update(np.array([-5.0, -5.0, 0.0]), np.array([1.0]), one_sonar())  # robot far outside
     assert np.count_nonzero(grid.values() != 50) == 1
-
-
-def test_vectorised_update_equals_the_cell_by_cell_model() -> None:
-    rng = np.random.default_rng(3)
-    angles = np.radians([-90.0, -45.0, -15.0, 15.0, 45.0, 90.0])
-    sonar = SonarInfo(angles=angles, offsets=0.18 * np.stack([np.cos(angles), np.sin(angles)], 1),
-                      cone=math.radians(25.0), min_range=0.05, max_range=3.0)
-    grid = BandGrid((0.0, 0.0, 6.0, 5.0))
-    for _ in range(15):
-        pose = np.array([rng.uniform(0.5, 5.5), rng.uniform(0.5, 4.5), rng.uniform(-np.pi, np.pi)])
-        ranges = np.where(rng.random(6) < 0.3, 3.0, rng.uniform(0.1, 2.9, 6))
-        expected = brute_force(grid, pose, ranges, sonar)
-        grid.update(pose, ranges, sonar)
-        np.testing.assert_allclose(grid.log_odds, expected, atol=1e-12)
-    np.testing.assert_array_equal(grid.values(), log_odds_to_values(grid.log_odds))
 
 
 def test_bad_sensor_model_parameters_are_refused() -> None:

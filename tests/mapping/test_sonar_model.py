@@ -121,20 +121,15 @@ def test_free_evidence_falls_off_with_the_angle_from_the_axis() -> None:
                                                      abs=1e-3)
 
 
-def brute_force_elfes(grid: OccupancyGrid, pose: np.ndarray, ranges: np.ndarray,
-                      sonar: SonarInfo) -> np.ndarray:
-    """The Elfes model cell by cell over the whole grid (reference for the vectorised update)."""
-    return brute_force(grid, pose, ranges, sonar)
-
-
-def test_vectorised_elfes_update_equals_the_cell_by_cell_model() -> None:
+@pytest.mark.parametrize("model", ["elfes", "band"])
+def test_vectorised_update_equals_the_cell_by_cell_model(model: str) -> None:
     rng = np.random.default_rng(3)
     sonar = diffbot_sonar()
-    grid = OccupancyGrid((0.0, 0.0, 6.0, 5.0))
+    grid = OccupancyGrid((0.0, 0.0, 6.0, 5.0), model=model)
     for _ in range(15):
         pose = np.array([rng.uniform(0.5, 5.5), rng.uniform(0.5, 4.5), rng.uniform(-np.pi, np.pi)])
         ranges = np.where(rng.random(6) < 0.3, 3.0, rng.uniform(0.1, 2.9, 6))
-        expected = brute_force_elfes(grid, pose, ranges, sonar)
+        expected = brute_force(grid, pose, ranges, sonar)
         grid.update(pose, ranges, sonar)
         np.testing.assert_allclose(grid.log_odds, expected, atol=1e-12)
     np.testing.assert_array_equal(grid.values(), log_odds_to_values(grid.log_odds))
