@@ -64,12 +64,24 @@ from nav_bench.interface import Command, GridState, Observation, StuckReason
 from nav_bench.mapping.occupancy import SONAR_MODELS, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import STOP, arrival_speed, pure_pursuit, steer
-from nav_bench.planners.footprint import Guarded, GuardSettings, guard
+from nav_bench.planners.footprint import (
+    CARVE_SUB,
+    Guarded,
+    GuardSettings,
+    PointObstacles,
+    SquareClearance,
+    cell_parts,
+    guard,
+    seen_through,
+)
 from nav_bench.planners.recovery import ProgressWatch, Recovery, RecoveryPhase, RecoverySettings
 
 INF = math.inf
 SQRT2 = math.sqrt(2.0)
 PATH_PREFIX = 160  # cells of the path extracted at a time (16..23 m; the follower looks 0.5 m ahead)
+FLOOR_MARGIN = 0.01  # m: the least gap to the map's obstacles a robot inside its margin may dip to
+CARVE_MEMORY_S = 3.0  # s: parts of occupied cells the sonars saw through this recently do not hold the follower
+CLEARANCE_POWER = 4  # the clearance cost falls as this power of the fraction of the margin left
 KEY_DIGITS = 9  # keys are rounded so that sums equal up to float rounding tie exactly
 # (drow, dcol, step length in cells); fixed order makes tie-breaking deterministic
 MOVES: tuple[tuple[int, int, float], ...] = (
@@ -96,12 +108,34 @@ def cell_costs(occupied: np.ndarray, inflate_cells: float, inflated_cost: float)
 
 
 def obstacle_distance(occupied: np.ndarray, cap: float) -> np.ndarray:
-    """(H, W) distance, in cells, from each cell centre to the nearest occupied cell centre
-    (0 on occupied cells), capped at ``cap`` (also where nothing is occupied)."""
+    """(H, W) clearance, in cells, of the best place in each cell: the largest distance from a
+    point of the cell (its centre, corners and edge midpoints) to the nearest occupied cell,
+    each occupied cell taken as the square it covers (0 on occupied cells); capped at ``cap``
+    (also where nothing is occupied).
+
+    Exact geometry at half-cell resolution: on the lattice of cell corners, edge midpoints and
+    centres (spacing half a cell) an occupied square holds the 3 x 3 lattice points it covers,
+    and the nearest of them to any lattice point is the nearest point of the square, so a
+    Euclidean distance transform of the lattice gives exact point-to-square distances. Taking
+    the best point of the cell tells a gap of four free cells between two occupied ones (the
+    middle line, a cell edge, is 2 cells from both squares) from one of three (1.5 cells), which
+    distances between cell centres (2 in both) cannot. With one obstacle nearest the value is the
+    distance between the two cells' centres."""
     occ = np.asarray(occupied, dtype=bool)
     if not occ.any():
         return np.full(occ.shape, float(cap))
-    return np.minimum(ndimage.distance_transform_edt(~occ), cap)
+    h, w = occ.shape
+    lattice = np.zeros((2 * h + 1, 2 * w + 1), dtype=bool)
+    for dr in range(3):
+        for dc in range(3):
+            lattice[dr:dr + 2 * h:2, dc:dc + 2 * w:2] |= occ
+    d = ndimage.distance_transform_edt(~lattice)
+    best = d[0:2 * h:2, 0:2 * w:2]
+    for dr in range(3):
+        for dc in range(3):
+            if dr or dc:
+                best = np.maximum(best, d[dr:dr + 2 * h:2, dc:dc + 2 * w:2])
+    return np.minimum(0.5 * best, cap)
 
 
 def clearance_costs(dist: np.ndarray, inscribed: float, margin: float, inscribed_cost: float,
@@ -109,14 +143,17 @@ def clearance_costs(dist: np.ndarray, inscribed: float, margin: float, inscribed
     """(H, W) step-cost multipliers from obstacle distances ``dist`` (cells), ROS costmap style.
 
     ``inf`` on occupied cells (``dist == 0``); ``inscribed_cost`` within ``inscribed`` cells
-    (the robot's radius: its body would overlap the obstacle there); beyond it the cost falls
-    quadratically from ``clearance_cost`` to 1 at ``inscribed + margin`` cells, and is 1 farther
-    out. Costs are rounded to 1/64 so that equal distances give exactly equal costs.
+    (the robot's radius and a little: with :func:`obstacle_distance` the body would overlap an
+    obstacle wherever it stood in the cell); beyond it the cost falls from ``clearance_cost`` to
+    1 at ``inscribed + margin`` cells as the fourth power of the remaining fraction
+    (``CLEARANCE_POWER``), and is 1 farther out: steep near the obstacles, so that a gap a few
+    cm wider than the robot costs as much as a detour of a few metres, nearly flat in the middle
+    of a corridor. Costs are rounded to 1/64 so that equal distances give exactly equal costs.
     """
     d = np.asarray(dist, dtype=float)
     outer = inscribed + margin
     frac = np.clip((outer - d) / max(margin, 1e-9), 0.0, 1.0)
-    cost = np.round((1.0 + (clearance_cost - 1.0) * frac ** 2) * 64.0) / 64.0
+    cost = np.round((1.0 + (clearance_cost - 1.0) * frac ** CLEARANCE_POWER) * 64.0) / 64.0
     cost[d <= inscribed] = float(inscribed_cost)
     cost[d <= 0.0] = INF
     return cost
@@ -589,13 +626,13 @@ class DStarLite(Planner):
               "'elfes' weighs by angle and shares the echo over its arc; 'band' the whole arc (before issue 12)",
               choices=SONAR_MODELS),
         Param("inflation_margin", 0.35, "m",
-              "clearance beyond the robot radius over which the cell cost falls to 1", minimum=0.0),
+              "clearance beyond the inscribed one over which the cell cost falls to 1", minimum=0.0),
         # finite, not lethal: a sonar arc drawn over the robot's own surroundings must not cut
         # it off; 1000 makes the planner use such cells only when nothing else is free
-        Param("inflated_cost", 1000.0, "-", "step-cost factor of cells within the robot radius of an "
-              "obstacle (inscribed)", minimum=1.0),
-        Param("clearance_cost", 5.0, "-", "step-cost factor just beyond the robot radius, falling "
-              "quadratically to 1 at radius + inflation_margin", minimum=1.0),
+        Param("inflated_cost", 1000.0, "-", "step-cost factor of inscribed cells (no point of the cell "
+              "keeps radius + passage_margin from an occupied cell)", minimum=1.0),
+        Param("clearance_cost", 5.0, "-", "step-cost factor just beyond the inscribed clearance, falling "
+              "as the 4th power to 1 at radius + passage_margin + inflation_margin", minimum=1.0),
         Param("expansions_per_cycle", 250, "-", "D* Lite expansions per control cycle; an unfinished "
               "repair continues next cycle (0: unlimited)", minimum=0),
         Param("lookahead", 0.5, "m", "pure-pursuit lookahead distance along the path", minimum=0.05),
@@ -605,6 +642,15 @@ class DStarLite(Planner):
               "map this far ahead", minimum=0.1),
         Param("slow_distance", 0.1, "m", "slow down when the clearance ahead is less than this beyond "
               "the required one", minimum=0.0),
+        Param("squeeze_margin", 0.02, "m", "gap the follower keeps between the body and an occupied "
+              "cell (the square it covers) at squeeze speed", minimum=0.0),
+        Param("cruise_margin", 0.06, "m", "the same gap at cruise speed (v_max); it grows linearly "
+              "from squeeze_speed", minimum=0.0),
+        Param("squeeze_speed", 0.1, "m/s", "speed at which only squeeze_margin is kept; the follower "
+              "slides along a corner at this speed when the path's own curvature is not safe",
+              minimum=0.01),
+        Param("passage_margin", 0.01, "m", "a cell is inscribed (inflated_cost) when no point of it "
+              "keeps the robot radius plus this from the occupied cells' squares", minimum=0.0),
         Param("recovery_after_s", 6.0, "s", "start the recovery (back up, rotate, re-plan) after this "
               "long without progress (0: never)", minimum=0.0),
         Param("progress_m", 0.3, "m", "displacement or gain toward the goal that counts as progress",
@@ -621,8 +667,11 @@ class DStarLite(Planner):
         super().reset(obs, rng)
         self.reset_path(obs)
         p = self.settings
-        self.guard_settings = GuardSettings(required=self.required_clearance(obs),
-                                            horizon=p.safety_horizon_s, slow_distance=p.slow_distance)
+        v = min(p.v_max, obs.robot.v_max)
+        self.guard_settings = GuardSettings(
+            required=obs.robot.radius + p.squeeze_margin, horizon=p.safety_horizon_s,
+            slow_distance=p.slow_distance, cruise_extra=max(0.0, p.cruise_margin - p.squeeze_margin),
+            squeeze_speed=min(p.squeeze_speed, v), v_max=v, floor=obs.robot.radius + FLOOR_MARGIN)
         rs = RecoverySettings(after_s=p.recovery_after_s, progress_m=p.progress_m, backup_m=p.backup_m,
                               rotate_rad=math.radians(p.rotate_deg),
                               omega=min(1.0, 0.6 * obs.robot.omega_max))
@@ -632,11 +681,18 @@ class DStarLite(Planner):
         self.blocked = False  # the follower found no safe motion this cycle
         self.last_reason: StuckReason | None = None
         self.no_path_left = p.no_path_recoveries
+        self._carved_t = np.full((*self.shape, CARVE_SUB * CARVE_SUB), -INF)  # when each part was seen through
+        self._last_pose: np.ndarray | None = None
+        self._last_t = obs.t
+        self._speed = 0.0
+        self._near = self._squares
 
     def required_clearance(self, obs: Observation) -> float:
-        """The clearance (m, robot centre to the nearest occupied cell's centre) the follower
-        keeps and the search treats as inscribed: the robot radius plus half a cell."""
-        return obs.robot.radius + 0.5 * self.settings.cell
+        """The clearance (m, from a point of a cell to the nearest occupied cell's square) below
+        which the search treats the whole cell as inscribed: the robot radius plus
+        ``passage_margin`` (half a cell for ``dwa_global``, which has no such parameter)."""
+        p = self.settings
+        return obs.robot.radius + getattr(p, "passage_margin", 0.5 * p.cell)
 
     def reset_path(self, obs: Observation) -> None:
         """The grid, the obstacle distances and costs, and the first D* Lite plan (what
@@ -644,18 +700,24 @@ class DStarLite(Planner):
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell, model=p.sonar_model)
         self.shape = self.grid.shape
-        # cells: where the follower's guard will not take the robot (its radius plus half a cell,
-        # so the occupied cell's edge stays outside the body). With the radius alone, cells the
-        # guard refuses cost ~5 and paths ran into gaps the robot then stood before until it
-        # ended stuck (generated offices and clutter, baselines study)
+        # inscribed cells: no point of them keeps the robot radius plus passage_margin from the
+        # occupied cells' squares (obstacle_distance: exact geometry, the best point of the cell).
+        # The follower's guard keeps radius + squeeze_margin (< passage_margin): a cell the search
+        # passes leaves the guard a band of the difference to drive in. Before, distances went
+        # between cell centres and the guard read the distance of the cell a point fell in:
+        # gaps of four free cells looked like three, and it refused squeezes the robot fits.
         self.inscribed = self.required_clearance(obs) / p.cell
         self.margin_cells = p.inflation_margin / p.cell
         self.cap = self.inscribed + self.margin_cells + 1.0  # distances beyond change no cost
-        self.pad = math.ceil(self.cap)
+        # a cell's best point is up to ~1.4 cells nearer an occupied square than their centres
+        # are: recomputed windows reach that much farther
+        self.pad = math.ceil(self.cap + 1.5)
         # the sonars change cells only this far from the robot
         self.window = math.ceil((obs.robot.sonar.max_range + 2 * p.cell) / p.cell) + 1
         self.occupied = np.zeros(self.shape, dtype=bool)
-        self.dist = np.full(self.shape, self.cap)  # cells to the nearest occupied cell centre
+        self.dist = np.full(self.shape, self.cap)  # cells: clearance of each cell's best point
+        x0, y0, _x1, _y1 = self.grid.bounds
+        self._squares = SquareClearance(self.occupied, x0, y0, p.cell, self._clearance_cap(obs))
         self.cost = np.ones(self.shape)
         self.goal_rc = self._clamp(self.grid.world_to_cell(obs.goal))
         self.goal_xy = np.asarray(obs.goal, dtype=float)
@@ -699,14 +761,63 @@ class DStarLite(Planner):
         else:
             self.path_xy = self._xy_full[self.repair.offset:]
 
+    def _clearance_cap(self, obs: Observation) -> float:
+        """Clearances beyond this (m) change nothing the follower does."""
+        p = self.settings
+        return (obs.robot.radius + max(getattr(p, "cruise_margin", 0.0), getattr(p, "passage_margin", 0.0))
+                + getattr(p, "slow_distance", 0.0) + p.cell)
+
     def clearance(self, xy: np.ndarray) -> np.ndarray:
-        """(N,) m from points ``xy`` (N, 2) to the nearest occupied cell centre (capped at
-        radius + margin + 1 cell; 0 outside the grid)."""
-        rc = self.grid.world_to_cell(xy)
-        inside = self.grid.frame.contains(rc[:, 0], rc[:, 1])
-        r = np.where(inside, rc[:, 0], 0)
-        c = np.where(inside, rc[:, 1], 0)
-        return np.where(inside, self.dist[r, c] * self.settings.cell, 0.0)
+        """(N,) m from points ``xy`` (N, 2) to the nearest occupied cell, each taken as the square
+        it covers (exact geometry; capped a cell beyond what the follower needs; 0 outside the
+        grid)."""
+        if self._squares.occupied is not self.occupied:  # the map array was replaced
+            self._squares.occupied = self.occupied
+        return self._squares(xy)
+
+    def _odometry_speed(self, obs: Observation) -> float:
+        """Forward speed (m/s) since the last cycle, from odometry (0 on the first)."""
+        pose = np.asarray(obs.pose, dtype=float)
+        prev, t_prev = self._last_pose, self._last_t
+        self._last_pose, self._last_t = pose.copy(), obs.t
+        if prev is None or obs.t <= t_prev:
+            return 0.0
+        d = pose[:2] - prev[:2]
+        return float(d[0] * math.cos(pose[2]) + d[1] * math.sin(pose[2])) / (obs.t - t_prev)
+
+    def _local_clearance(self, obs: Observation) -> PointObstacles:
+        """The clearance the follower and the recovery check motions against this cycle: exact
+        distances to the parts of the occupied cells near the robot that the sonars have not
+        seen through (nor the body covered) in the last ``CARVE_MEMORY_S``
+        (:func:`~nav_bench.planners.footprint.seen_through`; each cell is checked as
+        ``CARVE_SUB`` x ``CARVE_SUB`` small squares). The grid blames a whole echo arc and a
+        cell needs many readings to be carved free again, so it stands up to a cell proud of
+        obstacles and narrows a 0.58 m gap to ~0.4 m, too narrow for the body; the readings
+        themselves tell which parts of those cells the sonars see through. Remembered a few
+        seconds, so that the obstacles do not flicker with the robot's heading; a cell the grid
+        frees forgets its carving."""
+        cell = self.settings.cell
+        cap = self._squares.cap
+        reach = min(self.settings.v_max, obs.robot.v_max) * self.settings.safety_horizon_s + cap + 0.2
+        n = math.ceil(reach / cell)
+        r0, c0 = (int(v) for v in self.grid.world_to_cell(obs.pose[:2]))
+        h, w = self.shape
+        a0, a1, b0, b1 = max(r0 - n, 0), min(r0 + n + 1, h), max(c0 - n, 0), min(c0 + n + 1, w)
+        if a1 <= a0 or b1 <= b0:
+            return PointObstacles(np.zeros((0, 2)), cell / (2 * CARVE_SUB), cap, self.grid.bounds)
+        window = self.occupied[a0:a1, b0:b1]
+        carved = self._carved_t[a0:a1, b0:b1]
+        carved[~window] = -INF  # a cell the grid frees forgets its carving
+        rr, cc = np.nonzero(window)
+        parts = cell_parts(self.grid.cell_center(rr + a0, cc + b0).reshape(-1, 2), cell)
+        times = carved[rr, cc]  # (M, CARVE_SUB ** 2), a copy
+        seen = seen_through(parts.reshape(-1, 2), cell / CARVE_SUB,
+                            [(np.asarray(obs.pose, dtype=float), np.asarray(obs.ranges, dtype=float))],
+                            obs.robot.sonar, body=obs.robot.radius).reshape(times.shape)
+        times[seen] = obs.t
+        carved[rr, cc] = times
+        keep = times < obs.t - CARVE_MEMORY_S
+        return PointObstacles(parts[keep], cell / (2 * CARVE_SUB), cap, self.grid.bounds)
 
     def _map_changes(self, robot_rc: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Cells whose cost changed since the last cycle (rows, cols, new costs).
@@ -765,10 +876,12 @@ class DStarLite(Planner):
     def act(self, obs: Observation) -> Command:
         has_path = self.update_path(obs)
         self.watch.update(obs)
+        self._speed = self._odometry_speed(obs)
+        self._near = self._local_clearance(obs)
         p = self.settings
         if self.recovery.active:
             phase = self.recovery.phase
-            cmd = self.recovery.step(obs)
+            cmd = self.recovery.step(obs, self._near, self.guard_settings.required)
             if cmd is not None:
                 if self.recovery.phase is not phase:
                     self.emit("recovery", obs.t, phase=str(self.recovery.phase), count=self.recovery.count)
@@ -786,7 +899,7 @@ class DStarLite(Planner):
             self.recovery.start(obs, backup=not self.unreachable)
             self.emit("recovery", obs.t, phase=str(self.recovery.phase), count=self.recovery.count,
                       reason=str(self.last_reason) if self.last_reason else "no_progress")
-            cmd = self.recovery.step(obs)
+            cmd = self.recovery.step(obs, self._near, self.guard_settings.required)
             if cmd is not None:
                 return cmd
         if not has_path:
@@ -831,13 +944,14 @@ class DStarLite(Planner):
             d = float(np.hypot(*(goal - xy)))
             toward = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
             wanted = steer(obs, toward, arrival_speed(d, v))
+            target = goal
         else:
             d = np.hypot(path[:, 0] - xy[0], path[:, 1] - xy[1])
             far = np.nonzero(d >= p.lookahead)[0]
             target = path[far[0]] if len(far) else path[-1]
             toward = math.atan2(target[1] - xy[1], target[0] - xy[0])
             wanted = pure_pursuit(obs, path, p.lookahead, v, turn_in_place=math.radians(p.turn_in_place_deg))
-        return guard(obs, wanted, toward, self.clearance, self.guard_settings)
+        return guard(obs, wanted, toward, self._near, self.guard_settings, target=target, speed=self._speed)
 
     def stuck_reason(self) -> StuckReason | None:
         """NO_PATH when the goal is unreachable on the map; PINNED or OSCILLATING when the
