@@ -6,15 +6,19 @@ the basic version's full ``rhs`` recomputation for vertices whose edges changed)
 
 The map: an :class:`~nav_bench.mapping.occupancy.OccupancyGrid` updated from the sonars
 every cycle. Under the *freespace assumption* unknown cells are free; a cell whose value is
-above ``occupied_above`` is an obstacle. Cell costs (:func:`clearance_costs`, ROS costmap
-style): obstacle cells are lethal (``inf``); cells within the robot radius of one (inscribed:
-the body would overlap it) cost ``inflated_cost`` per step, finite so that a robot whose
-surroundings a sonar arc painted over can still drive out; beyond that the cost falls
-quadratically from ``clearance_cost`` to 1 at ``radius + inflation_margin``, so paths run down
-the middle of 1 m corridors and doors. Distances come from a Euclidean distance transform
-recomputed only in a window around the cells whose occupancy flipped (and only the window the
-sonars can reach is compared each cycle). The goal's cell is never lethal (an echo arc over
-the goal would otherwise make it unreachable for good).
+above ``occupied_above`` is an obstacle. Distances (:func:`obstacle_distance`) are exact
+geometry: from the best point of a cell to the nearest occupied cell taken as the square it
+covers. Cell costs (:func:`clearance_costs`, ROS costmap style): obstacle cells are lethal
+(``inf``); cells where no point keeps ``radius + passage_margin`` (inscribed: the body would
+overlap an occupied cell wherever it stood in the cell) cost ``inflated_cost`` per step, finite
+so that a robot whose surroundings a sonar arc painted over can still drive out; beyond that
+the cost falls from ``clearance_cost`` to 1 at ``radius + passage_margin + inflation_margin``
+as the 4th power of the margin left, so paths run down the middle of 1 m corridors and doors
+and take a gap a few cm wider than the robot only when going round costs more. Distances come
+from a Euclidean distance transform recomputed only in a window around the cells whose
+occupancy flipped (and only the window the sonars can reach is compared each cycle). The
+goal's cell is never lethal (an echo arc over the goal would otherwise make it unreachable for
+good).
 
 The graph: 8-connected cells; moving from ``u`` to a neighbour ``v`` costs the step length
 (1 or sqrt 2 cells) times the cost of ``v``; a diagonal step is forbidden when either cell it
@@ -37,10 +41,16 @@ extracted only when the repair settled after a change on it; moving along it adv
 
 The follower: pure pursuit on the path (``lookahead``), turning on the spot when the lookahead
 point is more than ``turn_in_place_deg`` off the heading; in the goal's cell or next to it,
-straight for the goal. Every command is checked by :func:`~nav_bench.planners.footprint.guard`
-(the footprint's rollout over ``safety_horizon_s`` against the obstacle distances and the sonar
-echoes, slowing within ``slow_distance``). No progress for ``recovery_after_s`` (odometry and
-sonar evidence, :mod:`~nav_bench.planners.recovery`) starts the recovery: back up, rotate in
+straight for the goal. Every command is checked by :func:`~nav_bench.planners.footprint.guard`:
+the footprint's rollout over ``safety_horizon_s`` against the parts of the occupied cells near
+the robot that the sonars have not seen through (each cell as 5 x 5 small squares, carved by
+the readings of the last ``CARVE_MEMORY_S``: the grid stands up to a cell proud of surfaces
+and narrows 0.55-0.6 m gaps below the robot's width) and against the sonar echoes; it keeps
+``cruise_margin`` at ``v_max`` and ``squeeze_margin`` at ``squeeze_speed``, slows within
+``slow_distance``, slides along a corner on another arc or turns to a heading it can leave it
+by, and stops before it turns on the spot. No progress for ``recovery_after_s`` (odometry and
+sonar evidence, a slow straight creep counting, :mod:`~nav_bench.planners.recovery`) starts
+the recovery: back up (not into the map's obstacles), rotate in
 place, re-plan from scratch (``recovery`` events with their ``phase``); no path starts a rotate
 and, if there is still none, clears the map (at most ``no_path_recoveries`` times); after that:
 stop and emit ``unreachable`` (once per loss). :meth:`DStarLite.stuck_reason` says why.
@@ -80,6 +90,7 @@ INF = math.inf
 SQRT2 = math.sqrt(2.0)
 PATH_PREFIX = 160  # cells of the path extracted at a time (16..23 m; the follower looks 0.5 m ahead)
 FLOOR_MARGIN = 0.01  # m: the least gap to the map's obstacles a robot inside its margin may dip to
+VIEW_MOVE_M, VIEW_TURN_RAD = 0.03, math.radians(5.0)  # a new view for carving: moved or turned this much
 CARVE_MEMORY_S = 3.0  # s: parts of occupied cells the sonars saw through this recently do not hold the follower
 CLEARANCE_POWER = 4  # the clearance cost falls as this power of the fraction of the margin left
 KEY_DIGITS = 9  # keys are rounded so that sums equal up to float rounding tie exactly
@@ -681,7 +692,11 @@ class DStarLite(Planner):
         self.blocked = False  # the follower found no safe motion this cycle
         self.last_reason: StuckReason | None = None
         self.no_path_left = p.no_path_recoveries
-        self._carved_t = np.full((*self.shape, CARVE_SUB * CARVE_SUB), -INF)  # when each part was seen through
+        parts = (*self.shape, CARVE_SUB * CARVE_SUB)
+        self._carved_t = np.full(parts, -INF, dtype=np.float32)  # when each part was last known free
+        self._seen_t = np.full(parts, -INF, dtype=np.float32)  # when a sonar last saw through it
+        self._seen_view = np.full(parts, -1, dtype=np.int32)  # from which view (see _local_clearance)
+        self._view, self._view_pose = 0, np.asarray(obs.pose, dtype=float).copy()
         self._last_pose: np.ndarray | None = None
         self._last_t = obs.t
         self._speed = 0.0
@@ -793,29 +808,46 @@ class DStarLite(Planner):
         ``CARVE_SUB`` x ``CARVE_SUB`` small squares). The grid blames a whole echo arc and a
         cell needs many readings to be carved free again, so it stands up to a cell proud of
         obstacles and narrows a 0.58 m gap to ~0.4 m, too narrow for the body; the readings
-        themselves tell which parts of those cells the sonars see through. Remembered a few
-        seconds, so that the obstacles do not flicker with the robot's heading; a cell the grid
-        frees forgets its carving."""
+        themselves tell which parts of those cells the sonars see through.
+
+        A part counts as seen through once two readings from different views (the robot
+        ``VIEW_MOVE_M`` or ``VIEW_TURN_RAD`` apart) saw through it: a box corner can poke
+        between the rays of one cone (a cone's rays are a few degrees apart) and a ray grazing
+        past it reads long, but not from two views. Remembered a few seconds, so that the
+        obstacles do not flicker with the robot's heading; a cell the grid frees forgets it."""
         cell = self.settings.cell
         cap = self._squares.cap
+        pose = np.asarray(obs.pose, dtype=float)
+        if (np.hypot(*(pose[:2] - self._view_pose[:2])) >= VIEW_MOVE_M
+                or abs(math.remainder(float(pose[2] - self._view_pose[2]), 2 * math.pi)) >= VIEW_TURN_RAD):
+            self._view += 1
+            self._view_pose = pose.copy()
         reach = min(self.settings.v_max, obs.robot.v_max) * self.settings.safety_horizon_s + cap + 0.2
         n = math.ceil(reach / cell)
-        r0, c0 = (int(v) for v in self.grid.world_to_cell(obs.pose[:2]))
+        r0, c0 = (int(v) for v in self.grid.world_to_cell(pose[:2]))
         h, w = self.shape
         a0, a1, b0, b1 = max(r0 - n, 0), min(r0 + n + 1, h), max(c0 - n, 0), min(c0 + n + 1, w)
         if a1 <= a0 or b1 <= b0:
             return PointObstacles(np.zeros((0, 2)), cell / (2 * CARVE_SUB), cap, self.grid.bounds)
         window = self.occupied[a0:a1, b0:b1]
         carved = self._carved_t[a0:a1, b0:b1]
+        last_t, last_view = self._seen_t[a0:a1, b0:b1], self._seen_view[a0:a1, b0:b1]
         carved[~window] = -INF  # a cell the grid frees forgets its carving
+        last_t[~window] = -INF
+        last_view[~window] = -1
         rr, cc = np.nonzero(window)
         parts = cell_parts(self.grid.cell_center(rr + a0, cc + b0).reshape(-1, 2), cell)
-        times = carved[rr, cc]  # (M, CARVE_SUB ** 2), a copy
-        seen = seen_through(parts.reshape(-1, 2), cell / CARVE_SUB,
-                            [(np.asarray(obs.pose, dtype=float), np.asarray(obs.ranges, dtype=float))],
-                            obs.robot.sonar, body=obs.robot.radius).reshape(times.shape)
-        times[seen] = obs.t
-        carved[rr, cc] = times
+        times, seen_at, views = carved[rr, cc], last_t[rr, cc], last_view[rr, cc]  # copies, (M, CARVE_SUB ** 2)
+        flat = parts.reshape(-1, 2)
+        seen = seen_through(flat, cell / CARVE_SUB, [(pose, np.asarray(obs.ranges, dtype=float))],
+                            obs.robot.sonar).reshape(times.shape)
+        confirmed = seen & (views >= 0) & (views != self._view) & (seen_at >= obs.t - CARVE_MEMORY_S)
+        times[confirmed] = obs.t
+        seen_at[seen] = obs.t
+        views[seen] = self._view
+        body = np.hypot(flat[:, 0] - pose[0], flat[:, 1] - pose[1]).reshape(times.shape) <= obs.robot.radius
+        times[body] = obs.t  # the body stands there: certain at once
+        carved[rr, cc], last_t[rr, cc], last_view[rr, cc] = times, seen_at, views
         keep = times < obs.t - CARVE_MEMORY_S
         return PointObstacles(parts[keep], cell / (2 * CARVE_SUB), cap, self.grid.bounds)
 

@@ -32,9 +32,9 @@ from nav_bench.interface import Command, Observation, StuckReason
 from nav_bench.planners.follow import echo_mask, limit
 from nav_bench.planners.footprint import Clearance, is_safe, rollout
 
-
 CREEP_SHARE = 1.0 / 3.0  # of progress_m: a straight creep this long counts as progress
 CREEP_TRAVEL = 1.5  # odometry travel over displacement below which a creep is straight
+PINNED_CONE = math.radians(30.0)  # sonars within this of the direction of motion judge pinning
 BACKUP_CHECK_M = 0.1  # m: the back-up looks this far behind the robot on the map
 
 
@@ -113,8 +113,9 @@ class ProgressWatch:
             self.best_goal = min(self.best_goal, to_goal)
 
     def _pinned(self, obs: Observation) -> bool:
-        """Odometry moved >= 8 cm in the window, but the echoing sonars' ranges changed by less
-        than 30 % of what that displacement predicts along their axes."""
+        """Odometry moved >= 8 cm in the window, but the echoing sonars looking within
+        ``PINNED_CONE`` of the direction of motion saw their ranges change by less than 30 % of
+        what that displacement predicts along their axes."""
         t0, pose0, r0 = self._history[0]
         if obs.t - t0 < 0.5 * self.s.pinned_s:
             return False
@@ -125,7 +126,11 @@ class ProgressWatch:
         sonar = obs.robot.sonar
         axes = pose0[2] + sonar.angles
         predicted = -(shift[0] * np.cos(axes) + shift[1] * np.sin(axes))  # range change, m
-        seen = np.isfinite(r0) & np.isfinite(r1) & (np.abs(predicted) > 0.04)
+        # only sonars looking along the motion: the range of one looking sideways at a wall the
+        # robot drives along does not change however far it drives (a 45 deg sonar in a long
+        # corridor called a robot cruising along a wall pinned, in the generated mazes)
+        along = np.abs(np.angle(np.exp(1j * (axes - math.atan2(shift[1], shift[0]))))) <= PINNED_CONE
+        seen = np.isfinite(r0) & np.isfinite(r1) & (np.abs(predicted) > 0.04) & along
         if not seen.any():
             return False
         return bool(np.abs(r1[seen] - r0[seen]).sum() < 0.3 * np.abs(predicted[seen]).sum())

@@ -175,21 +175,24 @@ def test_cells_a_reading_saw_through_are_carved_away() -> None:
     assert under.tolist() == [True, False]
 
 
-def test_the_planner_forgets_the_carving_of_a_cell_the_grid_frees() -> None:
-    world = BoxWorld.room((4.0, 2.0))
+def test_the_planner_carves_a_cell_seen_through_from_two_views_and_forgets_it_when_freed() -> None:
     planner = DStarLite()
-    obs = observation((1.0, 1.0, 0.0), goal=(3.0, 1.0))
-    obs = Observation(t=0.0, pose=obs.pose, goal=obs.goal, ranges=NO_ECHO, robot=obs.robot,
-                      bounds=(0.0, 0.0, 4.0, 2.0), dt=0.1)
-    planner.reset(obs, np.random.default_rng(0))
+
+    def obs_at(x: float, t: float) -> Observation:
+        return Observation(t=t, pose=np.array([x, 1.0, 0.0]), goal=np.array([3.5, 1.0]), ranges=NO_ECHO,
+                           robot=default_robot(), bounds=(0.0, 0.0, 4.0, 2.0), dt=0.1)
+
+    planner.reset(obs_at(1.0, 0.0), np.random.default_rng(0))
     planner.occupied[11, 15] = True  # a phantom cell (1.55, 1.15) on the 15 deg sonar's axis
-    near = planner._local_clearance(obs)
-    assert len(near.centres) == 0  # no echo ahead: the sonars see through it
+    assert len(planner._local_clearance(obs_at(1.0, 0.1)).centres) == CARVE_SUB ** 2  # one view: kept
+    assert len(planner._local_clearance(obs_at(1.0, 0.2)).centres) == CARVE_SUB ** 2  # the same view
+    assert len(planner._local_clearance(obs_at(1.05, 0.3)).centres) == 0  # a second view: carved
     assert np.isfinite(planner._carved_t[11, 15]).all()
-    planner.occupied[11, 15] = False
-    planner._local_clearance(obs)
-    assert np.all(planner._carved_t[11, 15] == -math.inf)
-    assert world.bounds == (0.0, 0.0, 4.0, 2.0)
+    planner.occupied[11, 15] = False  # the grid frees it: the carving is forgotten
+    planner._local_clearance(obs_at(1.05, 0.4))
+    assert np.all(planner._carved_t[11, 15] == -np.inf)
+    planner.occupied[11, 15] = True
+    assert len(planner._local_clearance(obs_at(1.05, 0.5)).centres) == CARVE_SUB ** 2
 
 
 # --------------------------------------------------------------------------- progress and recovery
