@@ -70,7 +70,7 @@ import numpy as np
 from scipy import ndimage
 
 from nav_bench.errors import InputError
-from nav_bench.interface import Command, GridState, Observation, StuckReason
+from nav_bench.interface import Command, GridState, Observation, StuckReason, wrap_angle
 from nav_bench.mapping.occupancy import SONAR_MODELS, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import STOP, arrival_speed, pure_pursuit, steer
@@ -91,6 +91,7 @@ SQRT2 = math.sqrt(2.0)
 PATH_PREFIX = 160  # cells of the path extracted at a time (16..23 m; the follower looks 0.5 m ahead)
 FLOOR_MARGIN = 0.01  # m: the least gap to the map's obstacles a robot inside its margin may dip to
 VIEW_MOVE_M, VIEW_TURN_RAD = 0.03, math.radians(5.0)  # a new view for carving: moved or turned this much
+ESCAPE_S = 4.0  # s: the longest the follower holds a way out of its margin
 CARVE_MEMORY_S = 3.0  # s: parts of occupied cells the sonars saw through this recently do not hold the follower
 CLEARANCE_POWER = 4  # the clearance cost falls as this power of the fraction of the margin left
 KEY_DIGITS = 9  # keys are rounded so that sums equal up to float rounding tie exactly
@@ -700,6 +701,7 @@ class DStarLite(Planner):
         self._last_pose: np.ndarray | None = None
         self._last_t = obs.t
         self._speed = 0.0
+        self._escape: tuple[float, float] | None = None  # (world heading, since when) of a way out
         self._near = self._squares
 
     def required_clearance(self, obs: Observation) -> float:
@@ -983,7 +985,21 @@ class DStarLite(Planner):
             target = path[far[0]] if len(far) else path[-1]
             toward = math.atan2(target[1] - xy[1], target[0] - xy[0])
             wanted = pure_pursuit(obs, path, p.lookahead, v, turn_in_place=math.radians(p.turn_in_place_deg))
-        return guard(obs, wanted, toward, self._near, self.guard_settings, target=target, speed=self._speed)
+        if self._escape is not None:  # hold a way out of the margin until out (or it closes)
+            heading, since = self._escape
+            inside = float(self._near(xy[None, :])[0]) < self.guard_settings.required
+            if inside and obs.t - since < ESCAPE_S:
+                ahead = xy + np.array([math.cos(heading), math.sin(heading)])
+                out = guard(obs, steer(obs, heading, self.guard_settings.squeeze_speed,
+                                       turn_in_place=math.radians(15.0)),
+                            heading, self._near, self.guard_settings, target=ahead, speed=self._speed)
+                if out.command.v > 0.0 or abs(wrap_angle(heading - float(obs.pose[2]))) > math.radians(15.0):
+                    return out
+            self._escape = None
+        out = guard(obs, wanted, toward, self._near, self.guard_settings, target=target, speed=self._speed)
+        if out.escape is not None:
+            self._escape = (out.escape, obs.t)
+        return out
 
     def stuck_reason(self) -> StuckReason | None:
         """NO_PATH when the goal is unreachable on the map; PINNED or OSCILLATING when the

@@ -273,10 +273,13 @@ def is_safe(clear_now: float, clear_along: np.ndarray, required: float, floor: f
 @dataclass(frozen=True)
 class Guarded:
     """The command to drive and whether the wanted one had to be changed (``blocked``: not
-    even a slower version of it was safe, nor any curvature of the fan)."""
+    even a slower version of it was safe, nor any curvature of the fan). ``escape``: the world
+    heading (rad) of a way out for a robot inside its margin (:func:`_escape`), which the
+    follower should hold until it is out (the command turns toward it)."""
 
     command: Command
     blocked: bool
+    escape: float | None = None
 
 
 FAN = 13  # curvatures tried at squeeze speed when the wanted one is not safe
@@ -308,8 +311,9 @@ def guard_motion(obs: Observation, wanted: Command, toward: float, clearance: Cl
     turn on the spot toward ``toward`` when the robot is more than 0.3 rad off it (the unsafe
     arcs came from driving while turning); else a turn on the spot toward a heading from which
     driving straight at squeeze speed is safe and gets closer to ``target`` (out of a corner
-    that every forward arc from the present heading brushes); else a turn on the spot toward
-    ``toward`` (``blocked``).
+    that every forward arc from the present heading brushes); else, for a robot already inside
+    its margin, the way out that gains the most clearance (:func:`_escape`: a map update drew
+    the margin round it); else a turn on the spot toward ``toward`` (``blocked``).
 
     Never returns a command whose rollout brings the footprint closer to an occupied cell
     than allowed (:func:`is_safe`), nor one driving the footprint onto the whole arc of an
@@ -354,12 +358,38 @@ def guard_motion(obs: Observation, wanted: Command, toward: float, clearance: Cl
     slide = _fan(obs, pose, v, target, check, s)
     if slide is not None:
         return Guarded(slide, True)
-    if abs(err) > 0.3:
+    if abs(err) > 0.3 and clear_now >= s.required:
         return Guarded(turn, False)
     heading = _heading_fan(pose, v, target, check, s)
     if heading is not None:
         return Guarded(limit(0.0, 2.5 * wrap_angle(heading - float(pose[2])), obs.robot), True)
+    if clear_now < s.required:
+        out = _escape(obs, pose, v, clear_now, check)
+        if out is not None:
+            cmd = limit(v, 0.0, obs.robot) if out == float(pose[2]) else limit(
+                0.0, 2.5 * wrap_angle(out - float(pose[2])), obs.robot)
+            return Guarded(cmd, True, escape=out)
     return Guarded(turn, True)
+
+
+ESCAPE_GAIN = 0.01  # m: an escape must end at least this much farther from the obstacles
+
+
+def _escape(obs: Observation, pose: np.ndarray, v: float, clear_now: float,
+            check: Callable[..., np.ndarray | None]) -> float | None:
+    """For a robot inside its margin with no way on toward its target: the world heading (the
+    present one first, then every 30 deg) from which driving straight at ``v`` gains the most
+    clearance, at least ``ESCAPE_GAIN`` (never losing any on the way); None if none does."""
+    best: tuple[float, float] | None = None
+    for deg in range(0, 360, 30):
+        yaw = float(pose[2]) + math.radians(deg)
+        along = check(v, 0.0, np.array([pose[0], pose[1], yaw]))
+        if along is None or float(np.min(along)) < clear_now - SAFE_TOLERANCE:
+            continue
+        gain = float(along[-1]) - clear_now
+        if gain >= ESCAPE_GAIN and (best is None or gain > best[0] + 1e-9):
+            best = (gain, yaw)
+    return None if best is None else best[1]
 
 
 HEADING_FAN_DEG = (20.0, 40.0, 60.0, 90.0, 120.0)  # turns tried by :func:`_heading_fan`, each way
