@@ -4,26 +4,32 @@ A path follower (pure pursuit) steers toward a point ahead on the path; on its w
 robot's circular footprint may sweep over a corner the path only grazes, and a differential
 drive pressed on a corner spins its wheels while odometry drives on. :func:`guard` rolls the
 command out over a short horizon (constant ``v``, ``omega``, checked every ``step`` m) and
-accepts it only when the footprint keeps its clearance from the occupied cells along the whole
-rollout, or, when the robot is already closer than that (a sonar arc drawn over it), when the
-clearance never shrinks. Otherwise it tries the same curvature slower, then a fan of other
-curvatures at squeeze speed (the one that gets closest to the point the follower aims at: the
-robot slides along a corner instead of standing on it), then turns on the spot toward the
-path (a circular robot turning in place sweeps nothing new).
+accepts it only when the footprint keeps its clearance from the obstacles along the whole
+rollout (:func:`is_safe`; a robot already nearer than that, a map update having drawn its
+margin round it, may move only so as to end no nearer, never below a floor). Otherwise it
+tries the same curvature slower, then a fan of other curvatures at squeeze speed (the one that
+gets closest to the point the follower aims at: the robot slides along a corner instead of
+standing on it), then turns on the spot toward the path or toward a heading it can leave a
+corner by, then, inside its margin, takes the way out that gains the most clearance. It stops
+before it turns on the spot while still rolling (the drive's wheel accelerations are limited:
+told to spin, it rolls on).
 
 Exact geometry: an occupied cell is the square it covers (the obstacle's surface is somewhere
 inside it), so the clearance of a point is its distance to the nearest occupied *square*
 (:class:`SquareClearance`), not to a cell centre, and not the value of the cell the point
-falls in. The clearance required grows with speed: ``required`` (the robot radius plus a small
-squeeze margin) at ``squeeze_speed`` and below, ``cruise_extra`` more at ``v_max``: the robot
-passes a gap only a few cm wider than itself, slowly.
+falls in. The occupancy grid stands up to a cell proud of the surfaces, though (a sonar blames
+its whole arc), so the planner checks against the parts of the cells near the robot that its
+sonars have not seen through (:func:`seen_through`, :func:`carve`, :class:`PointObstacles`):
+a cone sonar's range says everything nearer inside the cone is free. The clearance required
+grows with speed: ``required`` (the robot radius plus a small squeeze margin) at
+``squeeze_speed`` and below, ``cruise_extra`` more at ``v_max``: the robot passes a gap only a
+few cm wider than itself, slowly.
 
 Sonar echoes: an echo says a surface lies at that range somewhere on the sonar's arc (on one
 of its rays; nothing nearer inside the cone). The guard refuses a motion when the whole arc
 (sampled on ``ARC_RAYS`` rays, edges included) would come within the footprint, getting
 closer: the surface is in the way wherever on the arc it is. When only part of the arc is in
-the way the map decides (the grid attributes echoes over the arc and carves cells other
-readings see through). Units: m, s, rad.
+the way the map decides. Units: m, s, rad.
 """
 
 from __future__ import annotations
