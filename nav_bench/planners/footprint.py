@@ -141,18 +141,19 @@ def seen_through(points: np.ndarray, part: float, readings: list[tuple[np.ndarra
     if len(q) == 0:
         return free
     corner = part * math.sqrt(0.5)
-    half = sonar.cone / 2
+    cos_half = math.cos(sonar.cone / 2)
     for pose, ranges in readings:
         x, y, yaw = (float(v) for v in pose[:3])
         cy, sy = math.cos(yaw), math.sin(yaw)
         r = np.where(np.isfinite(ranges), np.minimum(ranges, sonar.max_range), sonar.max_range)
         mx = x + cy * sonar.offsets[:, 0] - sy * sonar.offsets[:, 1]
         my = y + sy * sonar.offsets[:, 0] + cy * sonar.offsets[:, 1]
+        ax, ay = np.cos(yaw + sonar.angles), np.sin(yaw + sonar.angles)
         dx = q[:, None, 0] - mx[None, :]
         dy = q[:, None, 1] - my[None, :]
         d = np.hypot(dx, dy)
-        bearing = np.abs(np.angle(np.exp(1j * (np.arctan2(dy, dx) - (yaw + sonar.angles)[None, :]))))
-        free |= np.any((bearing <= half) & (d + corner <= r[None, :] - CARVE_MARGIN), axis=1)
+        inside = dx * ax[None, :] + dy * ay[None, :] >= d * cos_half  # within the cone's half angle
+        free |= np.any(inside & (d + corner <= r[None, :] - CARVE_MARGIN), axis=1)
         if body > 0.0:
             free |= np.hypot(q[:, 0] - x, q[:, 1] - y) <= body
     return free
