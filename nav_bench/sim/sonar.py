@@ -18,7 +18,6 @@ from pybullet_utils.bullet_client import BulletClient
 from nav_bench.sim.session import RAY_MASK
 from nav_bench.specs import SonarSpec
 
-
 MISS = 2.0  # the ray fraction a miss is given while cones are reduced (hits are in [0, 1])
 
 
