@@ -274,35 +274,44 @@ class EchoMemory:
 
 # ----------------------------------------------------------------------------- loops
 class LoopDetector:
-    """Has the robot come back to where it started following a boundary?
+    """Has the robot gone once around the boundary it follows?
 
     Armed at a point; fires when the robot returns within ``radius`` m of it after having
-    been farther than ``2 * radius`` and having travelled at least ``min_length`` m.
+    been farther than ``2 * radius``, having travelled at least ``min_length`` m and having
+    turned by at least ``min_turn`` rad in net (one way). A lap around a boundary, from
+    outside or inside, turns the robot by 2 pi in net; a follower that lost the wall and came
+    back the way it went turned by about pi, and is not on a lap.
     """
 
-    def __init__(self, radius: float, min_length: float) -> None:
-        self.radius, self.min_length = radius, min_length
+    def __init__(self, radius: float, min_length: float, min_turn: float = 1.5 * math.pi) -> None:
+        self.radius, self.min_length, self.min_turn = radius, min_length, min_turn
         self.origin: np.ndarray | None = None
         self._left = False
         self._travel = 0.0
+        self._turn = 0.0
         self._last: np.ndarray | None = None
+        self._last_yaw: float | None = None
 
-    def arm(self, xy: np.ndarray) -> None:
+    def arm(self, xy: np.ndarray, yaw: float) -> None:
         self.origin = np.asarray(xy, dtype=float).copy()
-        self._left, self._travel, self._last = False, 0.0, self.origin.copy()
+        self._left, self._travel, self._turn = False, 0.0, 0.0
+        self._last, self._last_yaw = self.origin.copy(), float(yaw)
 
     def disarm(self) -> None:
         self.origin = None
 
-    def update(self, xy: np.ndarray) -> bool:
-        """Feed the current position; True when a full loop is detected."""
+    def update(self, xy: np.ndarray, yaw: float) -> bool:
+        """Feed the current position (m) and heading (rad); True when a full lap is detected."""
         if self.origin is None:
             return False
         xy = np.asarray(xy, dtype=float)
         if self._last is not None:
             self._travel += float(np.hypot(*(xy - self._last)))
-        self._last = xy.copy()
+        if self._last_yaw is not None:
+            self._turn += wrap_angle(float(yaw) - self._last_yaw)
+        self._last, self._last_yaw = xy.copy(), float(yaw)
         d = float(np.hypot(*(xy - self.origin)))
         if d > 2 * self.radius:
             self._left = True
-        return self._left and d < self.radius and self._travel >= self.min_length
+        return (self._left and d < self.radius and self._travel >= self.min_length
+                and abs(self._turn) >= self.min_turn)

@@ -174,7 +174,7 @@ class TangentBug(Planner):
         self.mode, self.side, self.acquired = FOLLOW, side, False
         self.follower = WallFollower(side, p.wall_distance, p.v_max, p.front_distance)
         self.d_followed = math.inf
-        self.loop.arm(xy)
+        self.loop.arm(xy, float(obs.pose[2]))
         self._follow_starts.append([float(xy[0]), float(xy[1])])
         self.emit("replan", obs.t, reason="follow_boundary", side="left" if side == LEFT else "right")
 
@@ -229,7 +229,7 @@ class TangentBug(Planner):
         if side_echo.any():
             hits = obs.sonar_hits()[side_echo]
             self.d_followed = min(self.d_followed, float(np.hypot(*(hits - goal).T).min()))
-        if self.loop.update(xy):
+        if self.loop.update(xy, float(obs.pose[2])):
             self.mode = UNREACHABLE
             self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
             return STOP
