@@ -150,7 +150,9 @@ def replay_commands(name: str, planner: Planner) -> tuple[np.ndarray, np.ndarray
     """Feed the observations recorded in ``tests/data/planner_replay/<name>.npz`` to
     ``planner``; its commands (N, 2) and the recorded ones. The files are real PyBullet
     episodes (seed 0) played with main's code at f4bd289, before issue 16's TangentBug
-    speed-ups, written by ``benchmarks/bench_tangent_bug.py --record``."""
+    speed-ups, written by ``benchmarks/bench_tangent_bug.py --record``; the very-complex one was
+    recorded again after the lap rule changed (a lap needs a net turn, merge 2a41606), which
+    changed when its unreachable ending comes."""
     with np.load(REPLAY / f"{name}.npz") as stored:
         rec = {key: stored[key] for key in stored.files}  # read once: an NpzFile inflates per access
     sonar = SonarInfo(angles=rec["sonar_angles"], offsets=rec["sonar_offsets"], cone=float(rec["sonar_cone"]),
