@@ -48,6 +48,17 @@ Borenstein 2000, adds it), so a U trap, a comb's closed pocket or a maze's dead 
 it in a back-and-forth the episode ends as ``stuck`` (oscillating); and a gap narrower than
 ``2 (radius + safety_distance)`` in the map (sonar arcs narrow a gap by a cell a side) is
 never a valley. A reactive method: no ``replan`` events.
+
+Speed (issue 16; ``benchmarks/bench_vfh.py``, ``benchmarks/bench_planning.py``): a cycle reads
+only the window's square of the live map and only its cells above 50 (:func:`read_window`),
+with the cell-centre coordinates precomputed per row and column; each active cell's offset,
+distance and bearing are computed once and shared by the histogram and the turning mask; a
+cell is tested only against the sectors around its bearing (:func:`covered_sectors`, a margin
+of one sector each side) instead of all ``n``. The 1998 paper precomputes each window cell's
+angle and magnitude relative to the window's centre cell; here the robot's exact position is
+used as before, so the tables hold what does not depend on it (cell centres), and the
+histogram, hence every command, is the same bit for bit as testing every sector x cell
+(tests: ``dense_polar_histogram``): each sector still sums its cells in window order.
 """
 
 from __future__ import annotations
@@ -150,9 +161,10 @@ def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: fl
     if rs >= re or cs >= ce:
         return ActiveWindow.of_cells(np.zeros((0, 2)), np.zeros(0), xy)
     square = values[rs:re, cs:ce]
-    rr, cc = np.nonzero(square > UNKNOWN)
+    above = square > UNKNOWN
+    rr, cc = np.divmod(np.flatnonzero(above), ce - cs)  # row-major, as np.nonzero
     # certainty_from_occupancy of cells above 50: (occ - 50) / 50 > 0 needs no lower clip
-    cert = np.minimum((square[rr, cc] - 50.0) / 50.0, 1.0)
+    cert = np.minimum((square[above] - 50.0) / 50.0, 1.0)
     cert *= c_max
     xs, ys = centre_coordinates(frame)
     cx, cy = xs[cs:ce].take(cc), ys[rs:re].take(rr)
@@ -173,20 +185,38 @@ def active_cells(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: f
     return np.stack([window.x, window.y], axis=1), window.certainty
 
 
+@functools.lru_cache(maxsize=8)
+def _sector_cycle(n_sectors: int) -> tuple[np.ndarray, np.ndarray]:
+    """Sector numbers ``0..3n-1`` read modulo ``n``: (3n,) the sector and (3n,) its centre,
+    rad (:func:`sector_centres`), for sector numbers shifted by ``n`` into ``[0, 3n)``."""
+    sectors = np.tile(np.arange(n_sectors), 3)
+    centres = np.tile(sector_centres(n_sectors), 3)
+    sectors.flags.writeable = centres.flags.writeable = False
+    return sectors, centres
+
+
 def covered_sectors(beta: np.ndarray, gamma: np.ndarray, n_sectors: int) -> tuple[np.ndarray, np.ndarray]:
     """(sector, cell) index pairs with ``|k alpha - beta_i| <= gamma_i`` (circular): the sectors
-    each cell's enlargement covers, from its bearing ``beta`` (M,) and half-width ``gamma`` (M,),
-    rad. Only the sectors around each cell are tested (from one sector below
-    ``(beta - gamma) / alpha``), each with the same arithmetic as a test of every sector."""
+    each cell's enlargement covers, from its bearing ``beta`` (M,) in ``[-pi, pi]`` and
+    half-width ``gamma`` (M,) in ``[0, pi/2]``, rad; each pair once, by cell.
+
+    Only the sectors around each cell are tested (from one sector below ``(beta - gamma) /
+    alpha``), each with the arithmetic of a test of every sector: ``|((k alpha - beta + pi)
+    mod 2 pi) - pi| <= gamma``, the ``mod`` done as one subtraction of ``2 pi`` where
+    ``k alpha - beta + pi`` is in ``[2 pi, 4 pi)`` (the same number, as the remainder is exact)."""
     alpha = 2 * math.pi / n_sectors
     width = min(math.ceil(2 * float(gamma.max()) / alpha) + 3, n_sectors)
-    # sector numbers as floats (whole numbers, exact): k * alpha is then the sector's centre
-    # exactly as sector_centres computes it
-    sector = np.floor((beta - gamma) / alpha)[:, None] + np.arange(-1.0, width - 1.0)
-    sector %= n_sectors  # (M, width)
-    diff = np.abs(np.remainder(sector * alpha - beta[:, None] + math.pi, 2 * math.pi) - math.pi)
-    cell, j = np.nonzero(diff <= gamma[:, None])
-    return sector[cell, j].astype(np.intp), cell
+    sectors, centres = _sector_cycle(n_sectors)
+    # sector numbers + n, in [0, 3n): beta - gamma >= -3 pi / 2
+    first = np.floor((beta - gamma) / alpha).astype(np.intp)
+    shifted = first[:, None] + np.arange(n_sectors - 1, n_sectors - 1 + width)  # (M, width)
+    diff = centres.take(shifted)
+    diff -= beta[:, None]
+    diff += math.pi  # in [0, 4 pi)
+    np.subtract(diff, 2 * math.pi, out=diff, where=diff >= 2 * math.pi)
+    diff -= math.pi
+    pairs = np.flatnonzero(np.abs(diff, out=diff) <= gamma[:, None])
+    return sectors.take(shifted.take(pairs)), pairs // width
 
 
 def window_histogram(window: ActiveWindow, bearings: np.ndarray, n_sectors: int, r_rs: float,
@@ -198,11 +228,12 @@ def window_histogram(window: ActiveWindow, bearings: np.ndarray, n_sectors: int,
     mag = window.certainty ** 2 * (1.0 + b * (d_max ** 2 - dist ** 2))
     gamma = np.arcsin(np.minimum(1.0, r_rs / dist))
     sector, cell = covered_sectors(bearings, gamma, n_sectors)
-    # each sector sums its cells' magnitudes in window order with zeros between: numpy's
-    # pairwise sum of the full row, bit for bit what a test of every sector x cell gave
-    spread = np.zeros((n_sectors, len(window)))
-    spread[sector, cell] = mag.take(cell)
-    return spread.sum(axis=1)
+    # (n, M): each cell's magnitude in the sectors it covers (each pair once), 0 elsewhere;
+    # each sector then sums its row in window order, zeros between: numpy's pairwise sum of
+    # the full row, bit for bit what a test of every sector x cell gave
+    m = len(window)
+    spread = np.bincount(sector * m + cell, weights=mag.take(cell), minlength=n_sectors * m)
+    return spread.reshape(n_sectors, m).sum(axis=1)
 
 
 def polar_histogram(cells_xy: np.ndarray, certainty: np.ndarray, xy: np.ndarray, n_sectors: int,
