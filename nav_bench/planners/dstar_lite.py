@@ -233,28 +233,31 @@ class GridGraph:
     def reverse_csr(self) -> Any:
         """The graph with every edge reversed (``v -> s`` for each step ``s -> v``, weighted by
         that step's cost), as a sparse matrix over the flat indices: Dijkstra from the goal on it
-        gives every cell's cost to the goal. Built with NumPy, one column of 8 per move."""
+        gives every cell's cost to the goal. Built with NumPy slices, one column per move."""
         from scipy.sparse import csr_matrix
 
         n, w = len(self.cost), self.width
         cost = self.cost_array
         ok = np.isfinite(cost)
-        flat = np.arange(n)
-        targets = np.zeros((n, len(MOVES)), dtype=np.int32)
-        weights = np.zeros((n, len(MOVES)))
-        valid = np.zeros((n, len(MOVES)), dtype=bool)
-        lo, hi = w + 1, n - w - 1  # the frame's cells have no edges; their neighbours stay inside
-        v = flat[lo:hi]
+        inner = np.frombuffer(self.inner, dtype=bool)
+        lo, hi = w + 1, n - w - 1  # v over every inner cell (the frame has no edges)
+        into = ok[lo:hi]  # no step enters a lethal cell
+        straight, diagonal = cost[lo:hi], SQRT2 * cost[lo:hi]  # the search's own products
+        targets = np.empty((hi - lo, len(MOVES)), dtype=np.int32)
+        weights = np.empty((hi - lo, len(MOVES)))
+        valid = np.empty((hi - lo, len(MOVES)), dtype=bool)
+        vs = np.arange(lo, hi, dtype=np.int32)
         for j, (off, step, cut) in enumerate(self.moves):
-            s = v - off  # the step s -> v costs step * cost[v]
-            good = ok[v] & (np.frombuffer(self.inner, dtype=np.uint8)[s] == 1)
-            if cut is not None:
-                good &= ok[s + cut[0]] & ok[s + cut[1]]
-            targets[lo:hi, j] = s
-            weights[lo:hi, j] = step * cost[v]
-            valid[lo:hi, j] = good
+            a, b = lo - off, hi - off  # s = v - off
+            good = into & inner[a:b]
+            if cut is not None:  # not past a lethal cell
+                good &= ok[a + cut[0]:b + cut[0]] & ok[a + cut[1]:b + cut[1]]
+            targets[:, j] = vs - off
+            weights[:, j] = straight if step == 1.0 else diagonal
+            valid[:, j] = good
         indptr = np.zeros(n + 1, dtype=np.int32)
-        np.cumsum(valid.sum(axis=1), out=indptr[1:])
+        np.cumsum(valid.sum(axis=1), out=indptr[lo + 1:hi + 1])
+        indptr[hi + 1:] = indptr[hi]
         return csr_matrix((weights[valid], targets[valid], indptr), shape=(n, n))
 
 
@@ -380,6 +383,20 @@ class DStarLiteSearch:
         recompute, update = self._recompute_rhs, self._update_vertex
         touched = self.touched if self.touched is not None else []
         budget = -1 if max_expansions is None else max_expansions
+
+        def lower(s: int, val: float) -> None:
+            """rhs(s) falls to val (rhs -inf of the frame and 0 of the goal never do)."""
+            rhs[s] = val
+            gs = g[s]
+            if gs == val:
+                entry[s] = None
+                return
+            m = gs if gs < val else val
+            dr, dc = row[s] - sr, col[s] - sc
+            dr, dc = (dr if dr > 0 else -dr), (dc if dc > 0 else -dc)
+            entry[s] = e = ((m + (dr + dc + _K * (dr if dr < dc else dc)) + km + _Q) - _Q, (m + _Q) - _Q, s)
+            push(heap, e)
+
         done = steps = 0
         self.settled = False
         while True:
@@ -422,37 +439,26 @@ class DStarLiteSearch:
                 g[u] = ru
                 if cu == INF:
                     continue  # no step enters a lethal cell
-                left, right = cost[u - 1] != INF, cost[u + 1] != INF
-                down, up = cost[u - w] != INF, cost[u + w] != INF
-                val = cu + ru  # a straight step into u, then on from u
-                for s in (u - 1, u - w, u + 1, u + w):
-                    if val < rhs[s]:
-                        rhs[s] = val
-                        gs = g[s]
-                        if gs == val:
-                            entry[s] = None
-                            continue
-                        m = gs if gs < val else val
-                        dr, dc = row[s] - sr, col[s] - sc
-                        dr, dc = (dr if dr > 0 else -dr), (dc if dc > 0 else -dc)
-                        entry[s] = e = ((m + (dr + dc + _K * (dr if dr < dc else dc)) + km + _Q) - _Q,
-                                        (m + _Q) - _Q, s)
-                        push(heap, e)
+                val = cu + ru  # a straight step into u, then on from u (written out: the hot loop)
+                if val < rhs[u - 1]:
+                    lower(u - 1, val)
+                if val < rhs[u - w]:
+                    lower(u - w, val)
+                if val < rhs[u + 1]:
+                    lower(u + 1, val)
+                if val < rhs[u + w]:
+                    lower(u + w, val)
                 val = SQRT2 * cu + ru  # a diagonal step: not past a lethal cell
-                for s in ((u - w - 1) if left and down else 0, (u - w + 1) if right and down else 0,
-                          (u + w + 1) if right and up else 0, (u + w - 1) if left and up else 0):
-                    if val < rhs[s]:  # index 0 is the frame's corner: rhs -inf
-                        rhs[s] = val
-                        gs = g[s]
-                        if gs == val:
-                            entry[s] = None
-                            continue
-                        m = gs if gs < val else val
-                        dr, dc = row[s] - sr, col[s] - sc
-                        dr, dc = (dr if dr > 0 else -dr), (dc if dc > 0 else -dc)
-                        entry[s] = e = ((m + (dr + dc + _K * (dr if dr < dc else dc)) + km + _Q) - _Q,
-                                        (m + _Q) - _Q, s)
-                        push(heap, e)
+                if cost[u - 1] != INF:
+                    if cost[u - w] != INF and val < rhs[u - w - 1]:
+                        lower(u - w - 1, val)
+                    if cost[u + w] != INF and val < rhs[u + w - 1]:
+                        lower(u + w - 1, val)
+                if cost[u + 1] != INF:
+                    if cost[u - w] != INF and val < rhs[u - w + 1]:
+                        lower(u - w + 1, val)
+                    if cost[u + w] != INF and val < rhs[u + w + 1]:
+                        lower(u + w + 1, val)
             else:  # underconsistent: raise to inf, repair u and the predecessors that used it
                 g[u] = INF
                 if cu != INF:
@@ -483,8 +489,6 @@ class DStarLiteSearch:
         else SciPy's Dijkstra on the reversed graph (:meth:`GridGraph.reverse_csr`). Both add
         the search's own terms (``g(v) + step * cost(v)``, one addition per step), so ``rhs``
         recomputed from the result equals it bit for bit: every cell is consistent."""
-        from scipy.sparse.csgraph import dijkstra
-
         graph = self.graph
         inner = np.frombuffer(graph.inner, dtype=np.uint8) == 1
         costs = graph.cost_array[inner]
@@ -493,6 +497,8 @@ class DStarLiteSearch:
             dist = np.full(len(graph.cost), INF)
             dist.reshape(graph.rows + 2, graph.width)[1:-1, 1:-1] = field
         else:
+            from scipy.sparse.csgraph import dijkstra  # (imported on first use: ~0.1 s)
+
             dist = dijkstra(graph.reverse_csr(), directed=True, indices=self.goal)
             dist[~inner] = INF
         self.g = dist.tolist()
@@ -544,28 +550,41 @@ class DStarLiteSearch:
                 continue  # no rhs goes through v, and a cheaper v cannot lower one yet
             left, right = cost[v - 1] != INF, cost[v + 1] != INF
             down, up = cost[v - w] != INF, cost[v + w] != INF
-            diagonal = ((v - w - 1) if left and down else 0, (v - w + 1) if right and down else 0,
-                        (v + w + 1) if right and up else 0, (v + w - 1) if left and up else 0)
-            if val < was:  # rhs[s] -inf (frame) or 0 (goal) is never above a candidate
+            # the steps s -> v (diagonals not past a lethal cell); rhs -inf (frame) or 0 (goal)
+            # is never above a candidate nor reached through v
+            if val < was:  # cheaper: lower the predecessors' rhs
                 cand = val + gv
                 for s in (v - 1, v - w, v + 1, v + w):
                     if cand < rhs[s]:
                         rhs[s] = cand
                         lowered.add(s)
                 cand = SQRT2 * val + gv
-                for s in diagonal:
-                    if cand < rhs[s]:
+                for s, ok in ((v - w - 1, left and down), (v + w - 1, left and up),
+                              (v - w + 1, right and down), (v + w + 1, right and up)):
+                    if ok and cand < rhs[s]:
                         rhs[s] = cand
                         lowered.add(s)
-            else:
-                through = was + gv - 1e-9
-                for s in (v - 1, v - w, v + 1, v + w):
-                    if rhs[s] >= through:  # s may have taken its rhs through v
-                        full.add(s)
-                through = SQRT2 * was + gv - 1e-9
-                for s in diagonal:
-                    if rhs[s] >= through:
-                        full.add(s)
+                continue
+            through = was + gv - 1e-9  # dearer: recompute the rhs that may have gone through v
+            if rhs[v - 1] >= through:
+                full.add(v - 1)
+            if rhs[v - w] >= through:
+                full.add(v - w)
+            if rhs[v + 1] >= through:
+                full.add(v + 1)
+            if rhs[v + w] >= through:
+                full.add(v + w)
+            through = SQRT2 * was + gv - 1e-9
+            if left:
+                if down and rhs[v - w - 1] >= through:
+                    full.add(v - w - 1)
+                if up and rhs[v + w - 1] >= through:
+                    full.add(v + w - 1)
+            if right:
+                if down and rhs[v - w + 1] >= through:
+                    full.add(v - w + 1)
+                if up and rhs[v + w + 1] >= through:
+                    full.add(v + w + 1)
         if not changed:
             return 0
         if self.touched is not None:
