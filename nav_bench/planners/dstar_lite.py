@@ -270,8 +270,8 @@ class DStarLiteSearch:
 
     Call :meth:`compute` after construction, after :meth:`set_costs` and after
     :meth:`move_start`; :attr:`path_cost` is then the optimal cost (cells) from the start.
-    :meth:`plan_from_scratch` instead of the first :meth:`compute` plans with SciPy's Dijkstra
-    (every cell's cost to the goal at C speed) and leaves nothing queued.
+    :meth:`plan_from_scratch` instead of the first :meth:`compute` plans every cell at once (a
+    closed form on uniform costs, else SciPy's Dijkstra) and leaves nothing queued.
 
     The loops are written out for speed (one expansion is ~20 list reads): ``rhs`` of the
     lethal frame's cells is ``-inf``, so that no test "lowers" or "went through" ever holds for
@@ -300,20 +300,8 @@ class DStarLiteSearch:
         self._update_vertex(self.goal)
 
     # -- queue (lazy deletion) ---------------------------------------------------------------------
-    def _calc_key(self, s: int) -> tuple[float, float]:
-        g, rhs = self.g[s], self.rhs[s]
-        m = g if g < rhs else rhs
-        if m == INF:
-            return (INF, INF)
-        row, col = self.graph.row, self.graph.col
-        dr, dc = row[s] - row[self.start], col[s] - col[self.start]
-        dr, dc = (dr if dr > 0 else -dr), (dc if dc > 0 else -dc)
-        h = dr + dc + _K * (dr if dr < dc else dc)
-        # rounded: g + h + km summed in different orders must compare equal, or a tie that
-        # k2 should break is decided by a 1e-15 difference in k1 (and the search stops early)
-        return ((m + h + self.km + _Q) - _Q, (m + _Q) - _Q)
-
     def _update_vertex(self, u: int) -> None:
+        """Queue ``u`` with its key if it is inconsistent, else drop its entry."""
         g, rhs = self.g[u], self.rhs[u]
         if g == rhs:
             self.entry[u] = None
@@ -325,14 +313,6 @@ class DStarLiteSearch:
         self.entry[u] = e = ((m + (dr + dc + _K * (dr if dr < dc else dc)) + self.km + _Q) - _Q,
                              (m + _Q) - _Q, u)
         heapq.heappush(self.heap, e)
-
-    def _top(self) -> tuple[float, float, int] | None:
-        heap, entry = self.heap, self.entry
-        while heap:
-            if entry[heap[0][2]] is heap[0]:
-                return heap[0]
-            heapq.heappop(heap)  # stale entry
-        return None
 
     def _recompute_rhs(self, s: int) -> float:
         """min over the successors ``v`` of c(s, v) + g(v) (written out: this is the search's
