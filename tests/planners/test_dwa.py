@@ -260,9 +260,10 @@ def test_the_decision_is_the_reference_decision_to_the_bit(kind: str) -> None:
 
 
 def test_the_decision_computes_few_exact_distances() -> None:
-    # a wall 1 m ahead at full speed: 7 x 16 samples x 10 poses = 1,120 poses, 41 points; exact
-    # distances for the 6 anchor turn rates of the middle speed (60 poses) and, against the
-    # points near enough, the few poses and arcs the bounds leave open
+    # a wall 1 m ahead at full speed: 7 x 16 samples x 10 poses = 1,120 poses, 41 points (45,920
+    # pairs before issue 16); exact distances for the 6 anchor turn rates of the middle speed
+    # (60 poses x 41 points), no collision the bounds leave open (none is possible), and the
+    # 7 arcs that can win (70 poses) against the 7 points that can be nearest to them: 2,950
     wall = np.stack([np.full(41, 1.0), np.linspace(-2.0, 2.0, 41)], axis=1)
     pairs: list[tuple[int, int]] = []
 
@@ -275,5 +276,5 @@ def test_the_decision_computes_few_exact_distances() -> None:
         mp.setattr(dwa_module, "nearest_distances", counting)
         got = choose_velocity(*args)
     assert got == reference_choose_velocity(*args)
-    assert pairs[0] == (60, 41)
-    assert sum(a * b for a, b in pairs) < 0.2 * 1120 * 41
+    assert (got.v, got.admissible) == (0.5, 105) and got.omega == pytest.approx(0.6 / 14)
+    assert pairs == [(60, 41), (70, 7)]
