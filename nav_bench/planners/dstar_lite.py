@@ -177,6 +177,15 @@ def uniform_costs_to_go(rows: int, cols: int, goal: Sequence[int], cost: float =
     return table[a, b]
 
 
+def _queue_key(m: float, dr: int, dc: int, km: float) -> tuple[float, float]:
+    """D* Lite's key (m + h + km, m) of a vertex with min(g, rhs) = ``m``, ``dr``, ``dc`` cells
+    from the start (h: the octile distance), both rounded as the search's own loops round them
+    (the hot loop in :meth:`DStarLiteSearch.compute` writes it out inline to save a call per
+    expansion)."""
+    dr, dc = (dr if dr > 0 else -dr), (dc if dc > 0 else -dc)
+    return (m + (dr + dc + _K * (dr if dr < dc else dc)) + km + _Q) - _Q, (m + _Q) - _Q
+
+
 class GridGraph:
     """An 8-connected grid with per-cell step costs, stored flat with a one-cell lethal frame.
 
@@ -586,10 +595,7 @@ class DStarLiteSearch:
             if gu == ru or not inner[u]:
                 entry[u] = None
                 continue
-            m = gu if gu < ru else ru
-            dr, dc = row[u] - sr, col[u] - sc
-            dr, dc = (dr if dr > 0 else -dr), (dc if dc > 0 else -dc)
-            entry[u] = e = ((m + (dr + dc + _K * (dr if dr < dc else dc)) + km + _Q) - _Q, (m + _Q) - _Q, u)
+            entry[u] = e = (*_queue_key(gu if gu < ru else ru, row[u] - sr, col[u] - sc, km), u)
             push(heap, e)
         return len(changed)
 
