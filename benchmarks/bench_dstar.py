@@ -2,7 +2,15 @@
 and the planner's work per control cycle, this tree's DStarLite against another tree's.
 
     python benchmarks/bench_dstar.py [--updates 300] [--seed 0] [--cycles 400]
-        [--before /work/main/nav_bench/planners/dstar_lite.py]
+        [--before /work/main/nav_bench/planners/dstar_lite.py] [--episode-s 40] [--parts-only]
+
+Part 3 (``--episode-s`` > 0): the issue-16 episode of ``benchmarks/bench_planning.py``
+(``clutter_40m``, 400 x 400 cells, seed ``--seed``) played by both trees' DStarLite, each
+cycle's ``act()`` CPU time split into its parts: the sonar map update
+(``OccupancyGrid.update``, shared with EO/PC), the map's cost changes (``_map_changes``),
+the repair (``PathRepair.cycle``: costs, search, path), the world path (``_refresh_xy``)
+and the rest (the follower, its guard, the progress watch and recovery). Printed: median,
+p99 and max of the whole cycle, of the cycle without the sonar map update, and of each part.
 
 Part 2 (per control cycle, the issue-16 target: median < 1 ms, p99 < 10 ms on 400 x 400):
 both planners' ``update_path`` (map changes -> costs -> repair -> path) is timed every cycle
@@ -38,16 +46,20 @@ import argparse
 import importlib.util
 import math
 import os
+import sys
 import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from nav_bench.interface import Observation
-from nav_bench.mapping.occupancy import OccupancyGrid
-from nav_bench.planners.dstar_lite import DStarLite, DStarLiteSearch, astar, cell_costs
-from nav_bench.testing.harness import default_robot
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))  # this tree's nav_bench, not an installed one
+
+from nav_bench.interface import Observation  # noqa: E402
+from nav_bench.mapping.occupancy import OccupancyGrid  # noqa: E402
+from nav_bench.planners.dstar_lite import DStarLite, DStarLiteSearch, astar, cell_costs  # noqa: E402
+from nav_bench.testing.harness import default_robot  # noqa: E402
 
 INFLATE = 3.0  # cells
 INFLATED_COST = 20.0
@@ -84,6 +96,14 @@ def run(n: int, updates: int, seed: int, search_cls: type = DStarLiteSearch) -> 
     t0 = time.process_time()
     search.compute()
     initial = time.process_time() - t0
+    at_once = math.nan  # the first plan by plan_from_scratch (Dijkstra in C), where there is one
+    if hasattr(search_cls, "plan_from_scratch"):
+        import scipy.sparse.csgraph  # noqa: F401  (imported before timing)
+
+        fresh = search_cls(cost, start, goal)
+        t0 = time.process_time()
+        fresh.plan_from_scratch()
+        at_once = time.process_time() - t0
     repair, extract, scratch, changed, expansions = [], [], [], [], []
     arcs: list[np.ndarray] = []
     pos = start
@@ -130,7 +150,7 @@ def run(n: int, updates: int, seed: int, search_cls: type = DStarLiteSearch) -> 
         extract.append(t2 - t1)
         scratch.append(t3 - t2)
     ms = 1e3
-    return {"initial": initial * ms,
+    return {"initial": initial * ms, "at_once": at_once * ms,
             "repair_med": float(np.median(repair)) * ms, "repair_p99": float(np.percentile(repair, 99)) * ms,
             "extract_med": float(np.median(extract)) * ms,
             "astar_med": float(np.median(scratch)) * ms, "astar_p99": float(np.percentile(scratch, 99)) * ms,
@@ -235,6 +255,74 @@ def compare_cycles(before: str, count: int, seed: int) -> None:
           "faster). Target (after, 400 x 400): med < 1, p99 < 10.")
 
 
+def episode_parts(cls: type, time_s: float, seed: int) -> tuple[dict[str, np.ndarray], str]:
+    """Per-cycle CPU ms of the parts of ``cls().act`` in bench_planning's 400 x 400 episode."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from bench_planning import big_world
+
+    from nav_bench.episode import EpisodeSettings
+    from nav_bench.episode.loop import run_episode
+    from nav_bench.specs import PlannerSetSpec
+
+    planner = cls()
+    parts = ("grid", "changes", "repair", "refresh")
+    times: dict[str, list[float]] = {k: [] for k in ("act", *parts)}
+    now: dict[str, float] = {}
+
+    def timed(name: str, fn: Any) -> Any:
+        def wrapper(*args: Any, **kwargs: Any) -> Any:
+            t0 = time.process_time()
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                now[name] = now.get(name, 0.0) + time.process_time() - t0
+        wrapper.timed = True  # type: ignore[attr-defined]
+        return wrapper
+
+    act = planner.act
+
+    def timed_act(obs: Observation) -> Any:
+        if not getattr(planner.grid.update, "timed", False):
+            planner.grid.update = timed("grid", planner.grid.update)
+            planner._map_changes = timed("changes", planner._map_changes)
+            planner._refresh_xy = timed("refresh", planner._refresh_xy)
+        if not getattr(planner.repair.cycle, "timed", False):  # (a restart makes a new one)
+            planner.repair.cycle = timed("repair", planner.repair.cycle)
+        now.clear()
+        t0 = time.process_time()
+        cmd = act(obs)
+        times["act"].append(time.process_time() - t0)
+        for k in parts:
+            times[k].append(now.get(k, 0.0))
+        return cmd
+
+    planner.act = timed_act  # type: ignore[method-assign]
+    spec = PlannerSetSpec(planner="dstar_lite")
+    result = run_episode(big_world(), spec, seed=seed, settings=EpisodeSettings(time_s=time_s),
+                         planner_instance=planner)
+    ms = {k: 1e3 * np.asarray(v) for k, v in times.items()}
+    ms["rest"] = ms["act"] - sum(ms[k] for k in parts)
+    ms["act - grid"] = ms["act"] - ms["grid"]
+    ms["changes+repair+refresh"] = ms["changes"] + ms["repair"] + ms["refresh"]
+    return ms, str(result.row.outcome)
+
+
+def compare_episode(before: str, time_s: float, seed: int) -> None:
+    trees = [("after", DStarLite)] if not before else [("before", load_module(before).DStarLite),
+                                                        ("after", DStarLite)]
+    print(f"\nper control cycle of the 400 x 400 episode (bench_planning's clutter_40m, {time_s:g} s, "
+          f"seed {seed}), CPU ms; load average {os.getloadavg()[0]:.2f}")
+    rows = ("act", "act - grid", "grid", "changes", "repair", "refresh", "changes+repair+refresh", "rest")
+    for label, cls in trees:
+        ms, outcome = episode_parts(cls, time_s, seed)
+        print(f"{label} ({outcome}, {len(ms['act'])} cycles)")
+        for k in rows:
+            v = ms[k]
+            print(f"  {k:>24}: median {np.median(v):7.3f}  p99 {np.percentile(v, 99):7.3f}  max {v.max():8.2f}")
+    print("act: the whole cycle; act - grid: without the sonar map update (another module's cost);\n"
+          "changes+repair+refresh: D* Lite's own planning. Target: act median < 1, p99 < 10.")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--updates", type=int, default=300, help="sonar updates per grid size")
@@ -242,10 +330,16 @@ def main() -> None:
     ap.add_argument("--cycles", type=int, default=400, help="control cycles per scenario (part 2)")
     ap.add_argument("--before", default=str(Path("/work/main/nav_bench/planners/dstar_lite.py")),
                     help="D* Lite module to compare with; '' skips the comparison")
+    ap.add_argument("--episode-s", type=float, default=40.0,
+                    help="simulated s of the part-3 episode (0 skips it)")
+    ap.add_argument("--parts-only", action="store_true", help="only part 3")
     args = ap.parse_args()
+    if args.parts_only:
+        compare_episode(args.before, args.episode_s, args.seed)
+        return
     print(f"load average {os.getloadavg()[0]:.2f}; {args.updates} updates per grid; times in ms")
     old = load_module(args.before).DStarLiteSearch if args.before else None
-    head = (f"{'grid':>9} {'tree':>6} {'initial':>8} {'cells chg':>9} {'expanded':>8} {'D* med':>7} "
+    head = (f"{'grid':>9} {'tree':>6} {'initial':>8} {'at once':>8} {'cells chg':>9} {'expanded':>8} {'D* med':>7} "
             f"{'D* p99':>7} {'path':>6} {'A* med':>7} {'A* p99':>7} {'A*/D*':>6}")
     print(head)
     print("-" * len(head))
@@ -254,13 +348,17 @@ def main() -> None:
             if cls is None:
                 continue
             r = run(n, args.updates, args.seed, cls)
-            print(f"{n:>4}x{n:<4} {label:>6} {r['initial']:8.1f} {r['changed']:9.0f} {r['expanded']:8.0f} "
+            print(f"{n:>4}x{n:<4} {label:>6} {r['initial']:8.1f} {r['at_once']:8.1f} {r['changed']:9.0f} {r['expanded']:8.0f} "
                   f"{r['repair_med']:7.2f} {r['repair_p99']:7.2f} {r['extract_med']:6.2f} "
                   f"{r['astar_med']:7.2f} {r['astar_p99']:7.2f} {r['astar_med'] / r['repair_med']:6.1f}")
-    print("D* med/p99: set_costs + compute (the repair, unbudgeted, binary inflation); path: extracting the"
-          " cell path afterwards; A*: planning from scratch on the same costs. CPU time.")
+    print("initial: the first plan expanded cell by cell; at once: the same by plan_from_scratch (the\n"
+          "whole grid, SciPy's Dijkstra); D* med/p99: set_costs + compute (the repair, unbudgeted, binary\n"
+          "inflation); path: extracting the cell path afterwards; A*: planning from scratch on the same\n"
+          "costs. CPU time.")
     if args.before:
         compare_cycles(args.before, args.cycles, args.seed)
+    if args.episode_s > 0:
+        compare_episode(args.before, args.episode_s, args.seed)
 
 
 if __name__ == "__main__":

@@ -29,7 +29,6 @@ from typing import Any
 import numpy as np
 
 from nav_bench.episode.ending import (
-    DEFAULT_AREA_RADIUS,
     Collided,
     Ending,
     GoalReached,
@@ -81,9 +80,8 @@ class Protocol:
         out += [GoalReached(np.asarray(world.goal, dtype=float), self.goal_radius(settings)),
                 TimeLimit(self.time_limit(settings, world))]
         if self.stuck_ends and settings.stuck_s is not None:
-            # read with a default: settings stored before the area rule have no such field
-            area = getattr(settings, "stuck_area_radius", DEFAULT_AREA_RADIUS)
-            out.append(Stuck(settings.stuck_s, settings.stuck_radius, start_xy, area_radius=area))
+            out.append(Stuck(settings.stuck_s, settings.stuck_radius, start_xy,
+                             area_radius=settings.stuck_area_radius))
         return out
 
     def score(self, success: bool, optimal_m: float | None, time_s: float | None) -> dict[str, Any]:

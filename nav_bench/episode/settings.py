@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from nav_bench.episode.ending import DEFAULT_AREA_RADIUS
 from nav_bench.errors import InputError
 from nav_bench.specs import GOAL_TOLERANCE_M, WorldSpec
 
@@ -22,8 +23,8 @@ class EpisodeSettings:
     stuck_s: float | None = 30.0  # "stuck" if the robot stays within stuck_radius this long; None: off
     stuck_radius: float = 0.2  # m
     # m, also "stuck" when the positions of the last 3 x stuck_s fit in a disc this size (an
-    # oscillating robot; nav_bench.episode.ending.Stuck); None: off
-    stuck_area_radius: float | None = 0.6
+    # oscillating robot; nav_bench.episode.ending.Stuck, which says why 0.6); None: off
+    stuck_area_radius: float | None = DEFAULT_AREA_RADIUS
     # m, true distance to the goal that counts as reached. Planners stop at their own tolerance
     # (0.2 m by default) judged on odometry; the extra 0.1 m absorbs odometry drift, so success
     # measures navigation and a default-noise robot that stopped "at" the goal is not "stuck".

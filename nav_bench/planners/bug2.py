@@ -121,14 +121,14 @@ class Bug2(Planner):
             facing = abs(math.remainder(heading - float(obs.pose[2]), 2 * math.pi)) < math.radians(30)
             if ahead < p.hit_distance and facing and ahead < to_goal:
                 self.mode, self.hit, self.hit_goal_distance = FOLLOW, xy.copy(), to_goal
-                self.loop.arm(xy)
+                self.loop.arm(xy, float(obs.pose[2]))
                 self.follower.start()
                 self._hits.append([float(xy[0]), float(xy[1])])
                 self.emit("replan", obs.t, reason="hit", x=float(xy[0]), y=float(xy[1]))
             else:
                 cmd = steer(obs, heading, arrival_speed(to_goal, v))
         if self.mode == FOLLOW:
-            if self.loop.update(xy):
+            if self.loop.update(xy, float(obs.pose[2])):
                 self.mode = UNREACHABLE
                 self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
             elif (self._on_mline(xy, goal) and to_goal < self.hit_goal_distance - p.leave_margin

@@ -6,12 +6,10 @@ the basic version's full ``rhs`` recomputation for vertices whose edges changed)
 
 The map: an :class:`~nav_bench.mapping.occupancy.OccupancyGrid` updated from the sonars
 every cycle. Under the *freespace assumption* unknown cells are free; a cell whose value is
-above ``occupied_above`` is an obstacle. Distances (:func:`obstacle_distance`) are exact
-geometry: from the best point of a cell to the nearest occupied cell taken as the square it
-covers. Cell costs (:func:`clearance_costs`, ROS costmap style): obstacle cells are lethal
-(``inf``); cells where no point keeps ``radius + passage_margin`` (inscribed: the body would
-overlap an occupied cell wherever it stood in the cell) cost ``inflated_cost`` per step, finite
-so that a robot whose surroundings a sonar arc painted over can still drive out; beyond that
+above ``occupied_above`` is an obstacle. Cell costs (:func:`clearance_costs`, ROS costmap
+style, from the distances between cell centres, :func:`obstacle_distance`): obstacle cells
+are lethal (``inf``); cells within ``radius + passage_margin`` of one (inscribed) cost
+``inflated_cost`` per step, finite so that a robot whose surroundings a sonar arc painted over can still drive out; beyond that
 the cost falls from ``clearance_cost`` to 1 at ``radius + passage_margin + inflation_margin``
 as the 4th power of the margin left, so paths run down the middle of 1 m corridors and doors
 and take a gap a few cm wider than the robot only when going round costs more. Distances come
@@ -25,19 +23,28 @@ The graph: 8-connected cells; moving from ``u`` to a neighbour ``v`` costs the s
 cuts past is lethal. The search runs backward from the goal, so ``g(s)`` is the cost from
 ``s`` to the goal and the robot descends it. Heuristic: octile distance (consistent).
 
+The first plan (and a re-plan from scratch) is computed at once, not expanded cell by cell:
+on the freespace assumption's uniform costs every cell's cost to the goal has a closed form
+(:func:`uniform_costs_to_go`), otherwise SciPy's Dijkstra runs on the whole grid; both add
+the same terms as the search, so every cell starts consistent (``g = rhs``) with nothing queued.
+
 Incremental repair: when cells change, only the vertices whose outgoing edges changed (the
 3 x 3 block around each changed cell) get ``rhs`` recomputed and are queued; ``km`` grows by
 ``h(s_last, s_start)`` when the robot has moved since the last change. ``g``/``rhs`` live in
-flat Python lists (fast scalar access) over a grid padded with a one-cell lethal frame; the
-priority queue is a ``heapq`` with lazy deletion (an entry counts only while it matches the
-vertex's current key). Keys are rounded to 1e-9 cells: ``g + h + km`` summed along
-different routes must tie exactly, or a 1e-15 difference in ``k1`` overrides the ``k2``
-tie-break and the search stops one expansion early with a stale ``g``.
+flat Python lists (fast scalar access) over a grid padded with a one-cell lethal frame whose
+``rhs`` is ``-inf`` (no bounds checks in the loops); the priority queue is a ``heapq`` with
+lazy deletion (an entry counts while it is the vertex's current one). Keys are rounded to
+2**-29 cells (one addition and one subtraction): ``g + h + km`` summed along different routes
+must tie exactly, or a 1e-15 difference in ``k1`` overrides the ``k2`` tie-break and the
+search stops one expansion early with a stale ``g``. The neighbour loops are written out.
 
 Time slicing (:class:`PathRepair`): at most ``expansions_per_cycle`` queue steps per control
 cycle; an unfinished repair continues next cycle while the robot follows the part of its old
 path that is still ahead and not inscribed/lethal (or stops). The path (a 160-cell prefix) is
-extracted only when the repair settled after a change on it; moving along it advances an offset.
+extracted only when the repair settled after a change on it, and then only up to where it
+meets the old path beyond the last cell next to a changed ``g`` or cost; moving along it
+advances an offset. The map's changes are found in the sonars' window, their distances by a
+patch of precomputed distances per new obstacle cell (a distance transform where one was freed).
 
 The follower: pure pursuit on the path (``lookahead``), turning on the spot when the lookahead
 point is more than ``turn_in_place_deg`` off the heading; in the goal's cell or next to it,
@@ -94,7 +101,6 @@ VIEW_MOVE_M, VIEW_TURN_RAD = 0.03, math.radians(5.0)  # a new view for carving: 
 ESCAPE_S = 4.0  # s: the longest the follower holds a way out of its margin
 CARVE_MEMORY_S = 3.0  # s: parts of occupied cells the sonars saw through this recently do not hold the follower
 CLEARANCE_POWER = 4  # the clearance cost falls as this power of the fraction of the margin left
-KEY_DIGITS = 9  # keys are rounded so that sums equal up to float rounding tie exactly
 # (drow, dcol, step length in cells); fixed order makes tie-breaking deterministic
 MOVES: tuple[tuple[int, int, float], ...] = (
     (0, 1, 1.0), (1, 0, 1.0), (0, -1, 1.0), (-1, 0, 1.0),
@@ -120,43 +126,22 @@ def cell_costs(occupied: np.ndarray, inflate_cells: float, inflated_cost: float)
 
 
 def obstacle_distance(occupied: np.ndarray, cap: float) -> np.ndarray:
-    """(H, W) clearance, in cells, of the best place in each cell: the largest distance from a
-    point of the cell (its centre, corners and edge midpoints) to the nearest occupied cell,
-    each occupied cell taken as the square it covers (0 on occupied cells); capped at ``cap``
-    (also where nothing is occupied).
-
-    Exact geometry at half-cell resolution: on the lattice of cell corners, edge midpoints and
-    centres (spacing half a cell) an occupied square holds the 3 x 3 lattice points it covers,
-    and the nearest of them to any lattice point is the nearest point of the square, so a
-    Euclidean distance transform of the lattice gives exact point-to-square distances. Taking
-    the best point of the cell tells a gap of four free cells between two occupied ones (the
-    middle line, a cell edge, is 2 cells from both squares) from one of three (1.5 cells), which
-    distances between cell centres (2 in both) cannot. With one obstacle nearest the value is the
-    distance between the two cells' centres."""
+    """(H, W) distance, in cells, from each cell centre to the nearest occupied cell centre
+    (0 on occupied cells), capped at ``cap`` (also where nothing is occupied)."""
     occ = np.asarray(occupied, dtype=bool)
     if not occ.any():
         return np.full(occ.shape, float(cap))
-    h, w = occ.shape
-    lattice = np.zeros((2 * h + 1, 2 * w + 1), dtype=bool)
-    for dr in range(3):
-        for dc in range(3):
-            lattice[dr:dr + 2 * h:2, dc:dc + 2 * w:2] |= occ
-    d = ndimage.distance_transform_edt(~lattice)
-    best = d[0:2 * h:2, 0:2 * w:2]
-    for dr in range(3):
-        for dc in range(3):
-            if dr or dc:
-                best = np.maximum(best, d[dr:dr + 2 * h:2, dc:dc + 2 * w:2])
-    return np.minimum(0.5 * best, cap)
+    return np.minimum(ndimage.distance_transform_edt(~occ), cap)
 
 
 def clearance_costs(dist: np.ndarray, inscribed: float, margin: float, inscribed_cost: float,
                     clearance_cost: float) -> np.ndarray:
-    """(H, W) step-cost multipliers from obstacle distances ``dist`` (cells), ROS costmap style.
+    """(H, W) step-cost multipliers from obstacle distances ``dist`` (cells, between cell
+    centres: :func:`obstacle_distance`), ROS costmap style.
 
     ``inf`` on occupied cells (``dist == 0``); ``inscribed_cost`` within ``inscribed`` cells
-    (the robot's radius and a little: with :func:`obstacle_distance` the body would overlap an
-    obstacle wherever it stood in the cell); beyond it the cost falls from ``clearance_cost`` to
+    (the robot's radius and a little: the body would overlap an occupied cell however it stood
+    in the cell); beyond it the cost falls from ``clearance_cost`` to
     1 at ``inscribed + margin`` cells as the fourth power of the remaining fraction
     (``CLEARANCE_POWER``), and is 1 farther out: steep near the obstacles, so that a gap a few
     cm wider than the robot costs as much as a detour of a few metres, nearly flat in the middle
@@ -166,15 +151,74 @@ def clearance_costs(dist: np.ndarray, inscribed: float, margin: float, inscribed
     outer = inscribed + margin
     frac = np.clip((outer - d) / max(margin, 1e-9), 0.0, 1.0)
     cost = np.round((1.0 + (clearance_cost - 1.0) * frac ** CLEARANCE_POWER) * 64.0) / 64.0
-    cost[d <= inscribed] = float(inscribed_cost)
+    cost[d <= inscribed + 1e-9] = float(inscribed_cost)  # 1e-9: (0.18 + 0.02) / 0.1 < 2 in floats
     cost[d <= 0.0] = INF
     return cost
+
+
+_Q = 1.5 * 2.0 ** 23  # (x + _Q) - _Q rounds x >= 0 to a multiple of 2**-29 (~2e-9) up to 2**22
+_K = SQRT2 - 2.0  # octile distance: dr + dc + _K * min(dr, dc)
+
+
+_FAR = 1 << 40  # a squared distance beyond any cap
+_NO_ROWS = np.zeros(0, dtype=np.int64)  # no changes (read-only)
+_NO_ROWS.flags.writeable = False
+_NO_VALUES = np.zeros(0)
+_NO_VALUES.flags.writeable = False
+
+_COORDS: dict[tuple[int, int], tuple[list[int], list[int]]] = {}
+
+
+def _coords(rows: int, width: int) -> tuple[list[int], list[int]]:
+    """(row, column) of every flat index of a padded grid, as lists (shared: never written)."""
+    key = (rows, width)
+    if key not in _COORDS:
+        flat = np.arange(rows * width)
+        _COORDS.clear()  # one grid size at a time
+        _COORDS[key] = ((flat // width).tolist(), (flat % width).tolist())
+    return _COORDS[key]
+
+
+def uniform_costs_to_go(rows: int, cols: int, goal: Sequence[int], cost: float = 1.0) -> np.ndarray:
+    """(rows, cols) cost of the cheapest 8-connected path from each cell to ``goal`` when every
+    cell costs ``cost`` (nothing lethal), summed as the search sums it.
+
+    Mathematically ``cost`` times the octile distance; but the search's ``g`` is a float sum,
+    ``g(s) = step * cost + g(next)``, and recomputing ``rhs`` must give ``g`` back bit for bit,
+    or cells one ulp apart count as inconsistent. So the sums are built the same way, by
+    Chebyshev ring (``a = max(|dr|, |dc|)``, ``b = min``): from ``(a, b)`` the steps on a
+    cheapest path lead to ``(a - 1, b)`` (straight) or ``(a - 1, b - 1)`` (diagonal); every
+    other neighbour is at least ``(2 - sqrt 2) cost`` dearer. One NumPy step per ring."""
+    dr = np.abs(np.arange(rows) - int(goal[0]))[:, None]
+    dc = np.abs(np.arange(cols) - int(goal[1]))[None, :]
+    a, b = np.maximum(dr, dc), np.minimum(dr, dc)
+    top = int(a.max())
+    table = np.full((top + 1, top + 1), INF)  # table[a, b], b <= a
+    table[0, 0] = 0.0
+    straight, diagonal = 1.0 * cost, SQRT2 * cost
+    for k in range(1, top + 1):
+        prev, row = table[k - 1, :k], table[k]
+        row[:k] = straight + prev
+        np.minimum(row[1:k + 1], diagonal + prev, out=row[1:k + 1])
+    return table[a, b]
+
+
+def _queue_key(m: float, dr: int, dc: int, km: float) -> tuple[float, float]:
+    """D* Lite's key (m + h + km, m) of a vertex with min(g, rhs) = ``m``, ``dr``, ``dc`` cells
+    from the start (h: the octile distance), both rounded as the search's own loops round them
+    (the hot loop in :meth:`DStarLiteSearch.compute` writes it out inline to save a call per
+    expansion)."""
+    dr, dc = (dr if dr > 0 else -dr), (dc if dc > 0 else -dc)
+    return (m + (dr + dc + _K * (dr if dr < dc else dc)) + km + _Q) - _Q, (m + _Q) - _Q
 
 
 class GridGraph:
     """An 8-connected grid with per-cell step costs, stored flat with a one-cell lethal frame.
 
     Cell ``(r, c)`` of the (H, W) grid is flat index ``(r + 1) * (W + 2) + (c + 1)``.
+    :attr:`cost` is a Python list (fast scalar access in the search's loops); :attr:`cost_array`
+    is the same costs as a NumPy array (vectorised change detection), kept equal by
+    :meth:`DStarLiteSearch.set_costs`.
     """
 
     def __init__(self, cost: np.ndarray) -> None:
@@ -182,17 +226,21 @@ class GridGraph:
         if cost.ndim != 2 or np.any(cost < 1.0):
             raise InputError("cell costs must be an (H, W) array of values >= 1 (inf = lethal)")
         self.rows, self.cols = cost.shape
-        self.width = self.cols + 2
-        padded = np.full((self.rows + 2, self.width), INF)
+        self.width = w = self.cols + 2
+        padded = np.full((self.rows + 2, w), INF)
         padded[1:-1, 1:-1] = cost
-        self.cost: list[float] = padded.ravel().tolist()
+        self.cost_array = padded.ravel()
+        self.cost: list[float] = self.cost_array.tolist()
         inner = np.zeros(padded.shape, dtype=bool)
         inner[1:-1, 1:-1] = True
         self.inner = bytearray(inner.ravel().tobytes())
-        w = self.width
+        self.frame = np.flatnonzero(~inner.ravel())
+        self.row, self.col = _coords(self.rows + 2, w)  # padded coordinates of each index
         # (flat offset, step, flat offsets of the two cells a diagonal cuts past or None)
         self.moves = [(dr * w + dc, step, (dr * w, dc) if dr and dc else None)
                       for dr, dc, step in MOVES]
+        # flat offsets of a cell's 3 x 3 block
+        self.block = np.array([dr * w + dc for dr in (-1, 0, 1) for dc in (-1, 0, 1)], dtype=np.int64)
 
     def index(self, rc: Sequence[int]) -> int:
         return (int(rc[0]) + 1) * self.width + int(rc[1]) + 1
@@ -217,6 +265,36 @@ class GridGraph:
         dr, dc = abs(ar - br), abs(ac - bc)
         return dr + dc + (SQRT2 - 2.0) * min(dr, dc)
 
+    def reverse_csr(self) -> Any:
+        """The graph with every edge reversed (``v -> s`` for each step ``s -> v``, weighted by
+        that step's cost), as a sparse matrix over the flat indices: Dijkstra from the goal on it
+        gives every cell's cost to the goal. Built with NumPy slices, one column per move."""
+        from scipy.sparse import csr_matrix
+
+        n, w = len(self.cost), self.width
+        cost = self.cost_array
+        ok = np.isfinite(cost)
+        inner = np.frombuffer(self.inner, dtype=bool)
+        lo, hi = w + 1, n - w - 1  # v over every inner cell (the frame has no edges)
+        into = ok[lo:hi]  # no step enters a lethal cell
+        straight, diagonal = cost[lo:hi], SQRT2 * cost[lo:hi]  # the search's own products
+        targets = np.empty((hi - lo, len(MOVES)), dtype=np.int32)
+        weights = np.empty((hi - lo, len(MOVES)))
+        valid = np.empty((hi - lo, len(MOVES)), dtype=bool)
+        vs = np.arange(lo, hi, dtype=np.int32)
+        for j, (off, step, cut) in enumerate(self.moves):
+            a, b = lo - off, hi - off  # s = v - off
+            good = into & inner[a:b]
+            if cut is not None:  # not past a lethal cell
+                good &= ok[a + cut[0]:b + cut[0]] & ok[a + cut[1]:b + cut[1]]
+            targets[:, j] = vs - off
+            weights[:, j] = straight if step == 1.0 else diagonal
+            valid[:, j] = good
+        indptr = np.zeros(n + 1, dtype=np.int32)
+        np.cumsum(valid.sum(axis=1), out=indptr[lo + 1:hi + 1])
+        indptr[hi + 1:] = indptr[hi]
+        return csr_matrix((weights[valid], targets[valid], indptr), shape=(n, n))
+
 
 class DStarLiteSearch:
     """D* Lite (Koenig & Likhachev 2002) over a :class:`GridGraph`, searching from the goal.
@@ -227,6 +305,13 @@ class DStarLiteSearch:
 
     Call :meth:`compute` after construction, after :meth:`set_costs` and after
     :meth:`move_start`; :attr:`path_cost` is then the optimal cost (cells) from the start.
+    :meth:`plan_from_scratch` instead of the first :meth:`compute` plans every cell at once (a
+    closed form on uniform costs, else SciPy's Dijkstra) and leaves nothing queued.
+
+    The loops are written out for speed (one expansion is ~20 list reads): ``rhs`` of the
+    lethal frame's cells is ``-inf``, so that no test "lowers" or "went through" ever holds for
+    them and the loops need no bounds check (the goal's ``rhs`` 0 is never above an edge's cost
+    either); a queue entry is live while it is the one object ``entry[s]`` (lazy deletion).
     """
 
     def __init__(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int]) -> None:
@@ -234,61 +319,68 @@ class DStarLiteSearch:
         n = len(self.graph.cost)
         self.g: list[float] = [INF] * n
         self.rhs: list[float] = [INF] * n
-        self.key: list[tuple[float, float] | None] = [None] * n  # queued key, None = not queued
+        for s in self.graph.frame.tolist():
+            self.rhs[s] = -INF
+        self.entry: list[tuple[float, float, int] | None] = [None] * n  # live queue entry or None
         self.heap: list[tuple[float, float, int]] = []
         self.km = 0.0
         self.goal = self.graph.index(goal)
         self.start = self.graph.index(start)
-        self._start_rc = divmod(self.start, self.graph.width)
         self.last = self.start
         self.expansions = 0
+        self.touched: list[int] | None = None  # with a list, compute() appends each vertex whose g it sets
+        self.steps = 0  # queue steps (expansions and re-keyings) over all compute() calls
         self.settled = False  # did the last compute() finish (not stopped by its budget)?
         self.rhs[self.goal] = 0.0
-        self._push(self.goal)
+        self._update_vertex(self.goal)
 
     # -- queue (lazy deletion) ---------------------------------------------------------------------
-    def _calc_key(self, s: int) -> tuple[float, float]:
-        g, rhs = self.g[s], self.rhs[s]
-        m = g if g < rhs else rhs
-        if m == INF:
-            return (INF, INF)
-        # the octile distance from the start, inlined: this runs for every queue push
-        br, bc = divmod(s, self.graph.width)
-        ar, ac = self._start_rc
-        dr = ar - br if ar > br else br - ar
-        dc = ac - bc if ac > bc else bc - ac
-        h = dr + dc + (SQRT2 - 2.0) * (dr if dr < dc else dc)
-        # rounded: g + h + km summed in different orders must compare equal, or a tie that
-        # k2 should break is decided by a 1e-15 difference in k1 (and the search stops early)
-        return (round(m + h + self.km, KEY_DIGITS), round(m, KEY_DIGITS))
-
-    def _push(self, s: int) -> None:
-        k = self._calc_key(s)
-        self.key[s] = k
-        heapq.heappush(self.heap, (k[0], k[1], s))
-
-    def _top(self) -> tuple[float, float, int] | None:
-        heap, key = self.heap, self.key
-        while heap:
-            k1, k2, s = heap[0]
-            if key[s] == (k1, k2):
-                return heap[0]
-            heapq.heappop(heap)  # stale entry
-        return None
-
     def _update_vertex(self, u: int) -> None:
-        if self.g[u] != self.rhs[u]:
-            self._push(u)
-        else:
-            self.key[u] = None
+        """Queue ``u`` with its key if it is inconsistent, else drop its entry."""
+        g, rhs = self.g[u], self.rhs[u]
+        if g == rhs:
+            self.entry[u] = None
+            return
+        m = g if g < rhs else rhs
+        row, col, start = self.graph.row, self.graph.col, self.start
+        dr, dc = row[u] - row[start], col[u] - col[start]
+        dr, dc = (dr if dr > 0 else -dr), (dc if dc > 0 else -dc)
+        self.entry[u] = e = ((m + (dr + dc + _K * (dr if dr < dc else dc)) + self.km + _Q) - _Q,
+                             (m + _Q) - _Q, u)
+        heapq.heappush(self.heap, e)
 
-    def _recompute_rhs(self, u: int) -> float:
-        graph, g = self.graph, self.g
-        best = INF
-        for off, step, cut in graph.moves:
-            c = graph.edge(u, off, step, cut)
-            if c != INF:
-                val = c + g[u + off]
+    def _recompute_rhs(self, s: int) -> float:
+        """min over the successors ``v`` of c(s, v) + g(v) (written out: this is the search's
+        most frequent call)."""
+        cost, g, w = self.graph.cost, self.g, self.graph.width
+        right, up, left, down = cost[s + 1], cost[s + w], cost[s - 1], cost[s - w]
+        best = right + g[s + 1]
+        val = up + g[s + w]
+        if val < best:
+            best = val
+        val = left + g[s - 1]
+        if val < best:
+            best = val
+        val = down + g[s - w]
+        if val < best:
+            best = val
+        # diagonals, in MOVES' order, not past a lethal cell
+        if up != INF:
+            if right != INF:
+                val = SQRT2 * cost[s + w + 1] + g[s + w + 1]
+                if val < best:
+                    best = val
+            if left != INF:
+                val = SQRT2 * cost[s + w - 1] + g[s + w - 1]
+                if val < best:
+                    best = val
+        if down != INF:
+            if left != INF:
+                val = SQRT2 * cost[s - w - 1] + g[s - w - 1]
+                if val < best:
+                    best = val
+            if right != INF:
+                val = SQRT2 * cost[s - w + 1] + g[s - w + 1]
                 if val < best:
                     best = val
         return best
@@ -298,56 +390,139 @@ class DStarLiteSearch:
         """ComputeShortestPath; returns the number of expansions it made. With
         ``max_expansions`` it stops after that many queue steps (expansions and re-keyings)
         and :attr:`settled` stays False: call it again to continue."""
-        g, rhs, key, graph = self.g, self.rhs, self.key, self.graph
-        cost, inner, moves = graph.cost, graph.inner, graph.moves
-        start, goal = self.start, self.goal
+        g, rhs, entry, heap, graph = self.g, self.rhs, self.entry, self.heap, self.graph
+        cost, row, col, w = graph.cost, graph.row, graph.col, graph.width
+        start, km = self.start, self.km
+        sr, sc = row[start], col[start]
+        pop, push, replace = heapq.heappop, heapq.heappush, heapq.heapreplace
+        recompute, update = self._recompute_rhs, self._update_vertex
+        touched = self.touched if self.touched is not None else []
+        budget = -1 if max_expansions is None else max_expansions
+
+        def lower(s: int, val: float) -> None:
+            """rhs(s) falls to val (rhs -inf of the frame and 0 of the goal never do)."""
+            rhs[s] = val
+            gs = g[s]
+            if gs == val:
+                entry[s] = None
+                return
+            m = gs if gs < val else val
+            dr, dc = row[s] - sr, col[s] - sc
+            dr, dc = (dr if dr > 0 else -dr), (dc if dc > 0 else -dc)
+            entry[s] = e = ((m + (dr + dc + _K * (dr if dr < dc else dc)) + km + _Q) - _Q, (m + _Q) - _Q, s)
+            push(heap, e)
+
         done = steps = 0
         self.settled = False
         while True:
-            top = self._top()
-            if top is None or not ((top[0], top[1]) < self._calc_key(start) or rhs[start] > g[start]):
+            gs, rs = g[start], rhs[start]
+            ms = gs if gs < rs else rs
+            ks1 = ks2 = INF
+            if ms != INF:
+                ks1, ks2 = (ms + km + _Q) - _Q, (ms + _Q) - _Q
+            while heap:  # the top live entry
+                top = heap[0]
+                if entry[top[2]] is top:
+                    break
+                pop(heap)
+            else:
                 self.settled = True
                 break
-            if max_expansions is not None and steps >= max_expansions:
+            k1, k2, u = top
+            if not (k1 < ks1 or (k1 == ks1 and k2 < ks2) or rs > gs):
+                self.settled = True
+                break
+            if steps == budget:
                 break
             steps += 1  # re-keying a vertex counts toward the budget as well: it costs as much
-            k_old = (top[0], top[1])
-            u = top[2]
-            k_new = self._calc_key(u)
-            if k_old < k_new:
-                self.key[u] = k_new
-                heapq.heapreplace(self.heap, (k_new[0], k_new[1], u))
+            gu, ru = g[u], rhs[u]
+            mu = gu if gu < ru else ru
+            dr, dc = row[u] - sr, col[u] - sc
+            dr, dc = (dr if dr > 0 else -dr), (dc if dc > 0 else -dc)
+            n1 = (mu + (dr + dc + _K * (dr if dr < dc else dc)) + km + _Q) - _Q
+            n2 = (mu + _Q) - _Q
+            if k1 < n1 or (k1 == n1 and k2 < n2):
+                entry[u] = e = (n1, n2, u)
+                replace(heap, e)
                 continue
-            heapq.heappop(self.heap)
-            key[u] = None
+            pop(heap)
+            entry[u] = None
             done += 1
-            if g[u] > rhs[u]:  # overconsistent: settle
-                g[u] = gu = rhs[u]
-                for off, step, cut in moves:
-                    s = u - off  # predecessor: s + off == u
-                    if not inner[s] or s == goal:
-                        continue
-                    if cut is not None and (cost[s + cut[0]] == INF or cost[s + cut[1]] == INF):
-                        continue
-                    c = step * cost[u]
-                    if c + gu < rhs[s]:
-                        rhs[s] = c + gu
-                        self._update_vertex(s)
-            else:  # underconsistent: raise to inf, repair u and predecessors that used it
-                g_old, g[u] = g[u], INF
-                for off, step, cut in moves:
-                    s = u - off
-                    if not inner[s] or s == goal:
-                        continue
-                    c = graph.edge(s, off, step, cut)
-                    if rhs[s] >= c + g_old - 1e-9:  # s may have taken its rhs through u
-                        rhs[s] = self._recompute_rhs(s)
-                        self._update_vertex(s)
-                if u != goal:
-                    rhs[u] = self._recompute_rhs(u)
-                self._update_vertex(u)
+            touched.append(u)
+            cu = cost[u]
+            if gu > ru:  # overconsistent: settle, and lower the predecessors it is now cheaper through
+                g[u] = ru
+                if cu == INF:
+                    continue  # no step enters a lethal cell
+                val = cu + ru  # a straight step into u, then on from u (written out: the hot loop)
+                if val < rhs[u - 1]:
+                    lower(u - 1, val)
+                if val < rhs[u - w]:
+                    lower(u - w, val)
+                if val < rhs[u + 1]:
+                    lower(u + 1, val)
+                if val < rhs[u + w]:
+                    lower(u + w, val)
+                val = SQRT2 * cu + ru  # a diagonal step: not past a lethal cell
+                if cost[u - 1] != INF:
+                    if cost[u - w] != INF and val < rhs[u - w - 1]:
+                        lower(u - w - 1, val)
+                    if cost[u + w] != INF and val < rhs[u + w - 1]:
+                        lower(u + w - 1, val)
+                if cost[u + 1] != INF:
+                    if cost[u - w] != INF and val < rhs[u - w + 1]:
+                        lower(u - w + 1, val)
+                    if cost[u + w] != INF and val < rhs[u + w + 1]:
+                        lower(u + w + 1, val)
+            else:  # underconsistent: raise to inf, repair u and the predecessors that used it
+                g[u] = INF
+                if cu != INF:
+                    left, right = cost[u - 1] != INF, cost[u + 1] != INF
+                    down, up = cost[u - w] != INF, cost[u + w] != INF
+                    val = cu + gu - 1e-9  # s may have taken its rhs through u
+                    for s in (u - 1, u - w, u + 1, u + w):
+                        if rhs[s] >= val:
+                            rhs[s] = recompute(s)
+                            update(s)
+                    val = SQRT2 * cu + gu - 1e-9
+                    for s in ((u - w - 1) if left and down else 0, (u - w + 1) if right and down else 0,
+                              (u + w + 1) if right and up else 0, (u + w - 1) if left and up else 0):
+                        if rhs[s] >= val:
+                            rhs[s] = recompute(s)
+                            update(s)
+                update(u)  # rhs(u) does not depend on g(u): it is still exact
         self.expansions += done
+        self.steps += steps
         return done
+
+    def plan_from_scratch(self) -> None:
+        """Plan on the current costs at C/NumPy speed instead of the first :meth:`compute`:
+        every cell's cost to the goal, ``g = rhs`` everywhere, nothing queued (the state a
+        finished search leaves, for every cell instead of those the heuristic let it reach).
+
+        With all costs equal (the freespace assumption's first plan) :func:`uniform_costs_to_go`,
+        else SciPy's Dijkstra on the reversed graph (:meth:`GridGraph.reverse_csr`). Both add
+        the search's own terms (``g(v) + step * cost(v)``, one addition per step), so ``rhs``
+        recomputed from the result equals it bit for bit: every cell is consistent."""
+        graph = self.graph
+        inner = np.frombuffer(graph.inner, dtype=np.uint8) == 1
+        costs = graph.cost_array[inner]
+        if len(costs) and np.isfinite(costs[0]) and np.all(costs == costs[0]):
+            field = uniform_costs_to_go(graph.rows, graph.cols, graph.cell(self.goal), float(costs[0]))
+            dist = np.full(len(graph.cost), INF)
+            dist.reshape(graph.rows + 2, graph.width)[1:-1, 1:-1] = field
+        else:
+            from scipy.sparse.csgraph import dijkstra  # (imported on first use: ~0.1 s)
+
+            dist = dijkstra(graph.reverse_csr(), directed=True, indices=self.goal)
+            dist[~inner] = INF
+        self.g = dist.tolist()
+        dist[~inner] = -INF
+        dist[self.goal] = 0.0
+        self.rhs = dist.tolist()
+        self.entry = [None] * len(self.g)
+        self.heap = []
+        self.settled = True
 
     def move_start(self, rc: Sequence[int]) -> None:
         """The robot is now in cell ``rc`` (call :meth:`compute` afterwards).
@@ -360,7 +535,6 @@ class DStarLiteSearch:
             self.km += self.graph.octile(self.last, new)
             self.last = new
         self.start = new
-        self._start_rc = divmod(new, self.graph.width)
 
     def set_costs(self, rows: Iterable[int], cols: Iterable[int], values: Iterable[float]) -> int:
         """Change cell costs and update the vertices whose outgoing edges changed. Returns the
@@ -369,49 +543,87 @@ class DStarLiteSearch:
         The paper's optimised update (Fig. 4): an edge into ``v`` that got cheaper lowers the
         predecessor's ``rhs`` by one comparison; one that got dearer recomputes it only if the
         predecessor's ``rhs`` went through ``v``. A cell that becomes or stops being lethal also
-        changes the diagonal edges cutting past it: its whole 3 x 3 block is recomputed."""
-        graph, cost, inner, g, rhs = self.graph, self.graph.cost, self.graph.inner, self.g, self.rhs
-        moves, goal, w = graph.moves, self.goal, graph.width
+        changes the diagonal edges cutting past it: its whole 3 x 3 block is recomputed.
+        (A cell given twice ends with its last value, as if they were set one by one.)"""
+        graph = self.graph
+        w, cost, g, rhs, inner = graph.width, graph.cost, self.g, self.rhs, graph.inner
+        flat = ((np.asarray(rows, dtype=np.int64) + 1) * w + np.asarray(cols, dtype=np.int64) + 1).tolist()
         full: set[int] = set()  # rhs recomputed from all successors
         lowered: set[int] = set()  # rhs lowered in place
-        changed = 0
-        for r, c, val in zip(rows, cols, values, strict=True):
-            v = (int(r) + 1) * w + int(c) + 1
-            val, old = float(val), cost[v]
-            if old == val:
+        changed: list[int] = []
+        for v, val in zip(flat, np.asarray(values, dtype=float).reshape(-1).tolist(), strict=True):
+            was = cost[v]
+            if was == val:
                 continue
             cost[v] = val
-            changed += 1
-            if old == INF or val == INF:
+            changed.append(v)
+            if was == INF or val == INF:
                 full.update((v, v + 1, v - 1, v + w, v - w, v + w + 1, v + w - 1, v - w + 1, v - w - 1))
                 continue
             gv = g[v]
             if gv == INF:
                 continue  # no rhs goes through v, and a cheaper v cannot lower one yet
-            for off, step, cut in moves:
-                s = v - off  # the edge s -> v
-                if not inner[s] or s == goal:
-                    continue
-                if cut is not None and (cost[s + cut[0]] == INF or cost[s + cut[1]] == INF):
-                    continue
-                if val < old:
-                    cand = step * val + gv
+            left, right = cost[v - 1] != INF, cost[v + 1] != INF
+            down, up = cost[v - w] != INF, cost[v + w] != INF
+            # the steps s -> v (diagonals not past a lethal cell); rhs -inf (frame) or 0 (goal)
+            # is never above a candidate nor reached through v
+            if val < was:  # cheaper: lower the predecessors' rhs
+                cand = val + gv
+                for s in (v - 1, v - w, v + 1, v + w):
                     if cand < rhs[s]:
                         rhs[s] = cand
                         lowered.add(s)
-                elif rhs[s] >= step * old + gv - 1e-9:  # s may have taken its rhs through v
-                    full.add(s)
+                cand = SQRT2 * val + gv
+                for s, ok in ((v - w - 1, left and down), (v + w - 1, left and up),
+                              (v - w + 1, right and down), (v + w + 1, right and up)):
+                    if ok and cand < rhs[s]:
+                        rhs[s] = cand
+                        lowered.add(s)
+                continue
+            through = was + gv - 1e-9  # dearer: recompute the rhs that may have gone through v
+            if rhs[v - 1] >= through:
+                full.add(v - 1)
+            if rhs[v - w] >= through:
+                full.add(v - w)
+            if rhs[v + 1] >= through:
+                full.add(v + 1)
+            if rhs[v + w] >= through:
+                full.add(v + w)
+            through = SQRT2 * was + gv - 1e-9
+            if left:
+                if down and rhs[v - w - 1] >= through:
+                    full.add(v - w - 1)
+                if up and rhs[v + w - 1] >= through:
+                    full.add(v + w - 1)
+            if right:
+                if down and rhs[v - w + 1] >= through:
+                    full.add(v - w + 1)
+                if up and rhs[v + w + 1] >= through:
+                    full.add(v + w + 1)
         if not changed:
             return 0
+        if self.touched is not None:
+            self.touched.extend(changed)
+        graph.cost_array[changed] = [cost[v] for v in changed]
         self.km += graph.octile(self.last, self.start)
         self.last = self.start
-        for u in sorted(full):  # sorted: the same queue order on every run
-            if inner[u] and u != goal:
-                rhs[u] = self._recompute_rhs(u)
-        for u in sorted(full | lowered):
-            if inner[u] and u != goal:
-                self._update_vertex(u)
-        return changed
+        full.discard(self.goal)
+        recompute = self._recompute_rhs
+        for u in full:
+            if inner[u]:
+                rhs[u] = recompute(u)
+        full |= lowered
+        # queue the inconsistent ones (the order of pushes does not matter: keys are unique)
+        entry, heap, push, km, row, col = self.entry, self.heap, heapq.heappush, self.km, graph.row, graph.col
+        sr, sc = row[self.start], col[self.start]
+        for u in full:
+            gu, ru = g[u], rhs[u]
+            if gu == ru or not inner[u]:
+                entry[u] = None
+                continue
+            entry[u] = e = (*_queue_key(gu if gu < ru else ru, row[u] - sr, col[u] - sc, km), u)
+            push(heap, e)
+        return len(changed)
 
     @property
     def path_cost(self) -> float:
@@ -425,23 +637,62 @@ class DStarLiteSearch:
         With ``join`` (cell -> index in ``tail``, a path extracted on the same costs), the
         descent stops at the first cell of ``tail`` it meets and continues with ``tail`` from
         there (the descent from that cell would be the same)."""
-        graph, g = self.graph, self.g
+        cell = self.graph.cell
+        flat = self.descend(max_len)
+        out = [cell(s) for s in flat]
+        if join is not None and tail is not None:
+            for i in range(1, len(out)):
+                if out[i] in join:
+                    return out[:i + 1] + tail[join[out[i]] + 1:]
+        return out
+
+    def descend(self, max_len: int | None = None, join: dict[int, int] | None = None,
+                after: int = -1) -> list[int]:
+        """Flat indices from the start to the goal (at most ``max_len``) by descending
+        ``c + g``, the first of equal successors in :data:`MOVES`' order; [] if there is none.
+        With ``join`` (flat index -> index in a path), it stops at the first cell after the
+        start that ``join`` maps above ``after``."""
         if self.path_cost == INF:
             return []
-        s, out, seen = self.start, [self.graph.cell(self.start)], {self.start}
+        cost, g, w, goal = self.graph.cost, self.g, self.graph.width, self.goal
+        s, out, seen = self.start, [self.start], {self.start}
         limit = max_len or len(g)
-        while s != self.goal and len(out) < limit:
-            if join is not None and tail is not None and len(out) > 1 and out[-1] in join:
-                return out + tail[join[out[-1]] + 1:]
-            best, nxt = INF, -1
-            for off, step, cut in graph.moves:
-                c = graph.edge(s, off, step, cut)
-                if c != INF and c + g[s + off] < best:
-                    best, nxt = c + g[s + off], s + off
-            if nxt < 0 or nxt in seen:
+        while s != goal and len(out) < limit:
+            if join is not None and len(out) > 1 and join.get(s, -1) > after:
+                break
+            right, up, left, down = cost[s + 1], cost[s + w], cost[s - 1], cost[s - w]
+            best, nxt = right + g[s + 1], s + 1
+            val = up + g[s + w]
+            if val < best:
+                best, nxt = val, s + w
+            val = left + g[s - 1]
+            if val < best:
+                best, nxt = val, s - 1
+            val = down + g[s - w]
+            if val < best:
+                best, nxt = val, s - w
+            if up != INF:
+                if right != INF:
+                    val = SQRT2 * cost[s + w + 1] + g[s + w + 1]
+                    if val < best:
+                        best, nxt = val, s + w + 1
+                if left != INF:
+                    val = SQRT2 * cost[s + w - 1] + g[s + w - 1]
+                    if val < best:
+                        best, nxt = val, s + w - 1
+            if down != INF:
+                if left != INF:
+                    val = SQRT2 * cost[s - w - 1] + g[s - w - 1]
+                    if val < best:
+                        best, nxt = val, s - w - 1
+                if right != INF:
+                    val = SQRT2 * cost[s - w + 1] + g[s - w + 1]
+                    if val < best:
+                        best, nxt = val, s - w + 1
+            if best == INF or nxt in seen:
                 return []
             seen.add(nxt)
-            out.append(graph.cell(nxt))
+            out.append(nxt)
             s = nxt
         return out
 
@@ -497,21 +748,39 @@ class PathRepair:
     a robot moving along its path only advances an offset into it (no O(path) work). With
     ``prefix`` > 0 only that many cells are extracted (a follower needs the near part), and
     the next piece when the robot has used half of them.
+
+    A new path is spliced, not extracted anew: the search lists the vertices whose ``g``
+    changed (:attr:`DStarLiteSearch.touched`) and the cells whose cost changed; the old
+    path's steps after the last one next to such a cell are still the descent, so the new
+    path descends from the robot only until it meets the old one beyond that point. With
+    ``scratch`` (the default) the first plan and every :meth:`restart` are
+    :meth:`DStarLiteSearch.plan_from_scratch`.
     """
 
     def __init__(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int],
-                 budget: int = 0, keep: int = 30, lethal: float = INF, prefix: int = 0) -> None:
-        self.search = DStarLiteSearch(cost, start, goal)
+                 budget: int = 0, keep: int = 30, lethal: float = INF, prefix: int = 0,
+                 scratch: bool = True) -> None:
         self.budget, self.keep, self.lethal, self.prefix = budget, keep, lethal, prefix
+        self.scratch = scratch
+        self.version = 0  # counts path extractions
+        self._new_search(cost, start, goal)
+        self.cycle(tuple(start))
+
+    def _new_search(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int]) -> None:
+        self.search = DStarLiteSearch(cost, start, goal)
+        if self.scratch:
+            self.search.plan_from_scratch()
+        self.search.touched = []
         self._path: list[tuple[int, int]] = []
-        self._where: dict[tuple[int, int], int] = {}
+        self._flat: list[int] = []  # the path's flat indices
+        self._where: dict[int, int] = {}  # flat index -> index in the path
         self._offset = 0
         self._near = -1  # a path index beside the robot while it is off its path
-        self.version = 0  # counts path extractions
         self.stale = True  # the path no longer reflects the costs (a repair is under way)
         self._costs_changed = True  # on the path since the last extraction (else it may still do)
+        self._extend = True  # the next extraction descends from scratch (no splice)
         self._g_path: list[float] = []  # g of each path cell at extraction (the start's: its rhs)
-        self.cycle(tuple(start))
+        self._index = np.full(len(self.search.g), -1, dtype=np.int64)  # flat index -> path index
 
     @property
     def complete(self) -> bool:
@@ -551,12 +820,12 @@ class PathRepair:
         start = self._offset if self._offset >= 0 else self._near
         if not self._path or start < 0:
             return []
-        graph = self.search.graph
-        out = self._path[start:start + self.keep]
-        for i, rc in enumerate(out[1:], start=1):
-            if graph.cost[graph.index(rc)] >= self.lethal:
-                return out[:i] if i > 1 else []
-        return out
+        cost, lethal = self.search.graph.cost, self.lethal
+        flat = self._flat[start:start + self.keep]
+        for i in range(1, len(flat)):
+            if cost[flat[i]] >= lethal:
+                return self._path[start:start + i] if i > 1 else []
+        return self._path[start:start + self.keep]
 
     def cycle(self, start: Sequence[int], rows: np.ndarray | None = None,
               cols: np.ndarray | None = None, vals: np.ndarray | None = None) -> tuple[int, bool]:
@@ -564,7 +833,8 @@ class PathRepair:
         after a cost change made the old one differ)."""
         search = self.search
         start = (int(start[0]), int(start[1]))
-        moved = search.graph.index(start) != search.start
+        s = search.graph.index(start)
+        moved = s != search.start
         search.move_start(start)
         changed = search.set_costs(rows, cols, vals) if rows is not None and len(rows) else 0
         if changed:
@@ -573,13 +843,13 @@ class PathRepair:
                 self._costs_changed = True
         if moved:
             last = self._offset if self._offset >= 0 else self._near
-            self._offset = self._where.get(start, -1)
+            self._offset = self._where.get(s, -1)
             if self._offset < 0:
                 self.stale = True  # left the path: its suffix is no answer
                 self._near = self._nearby(start, last)
             elif (self.prefix and len(self._path) - self._offset < self.prefix // 2
-                  and self._path[-1] != search.graph.cell(search.goal)):
-                self.stale = self._costs_changed = True  # extract the next piece
+                  and self._flat[-1] != search.goal):
+                self.stale = self._costs_changed = self._extend = True  # extract the next piece
         if self.stale or not search.settled:
             search.compute(self.budget or None)
         if not (self.stale and search.settled):
@@ -590,36 +860,61 @@ class PathRepair:
             # no cost on the path changed and the cost from here did not: still optimal
             self.stale = False
             return changed, False
-        if self._costs_changed:
-            self._path = search.path(max_len=self.prefix or None)
-        else:  # only the robot left its path: descend until it rejoins it
-            self._path = search.path(max_len=self.prefix or None, join=self._where, tail=self._path)
-        self._costs_changed = False
+        self._extract()
+        return changed, bool(changed) and bool(self._path) and _path_changed(old, self._path)
+
+    def _extract(self) -> None:
+        """The path from the start: a descent of at most ``prefix`` cells, joined to the old path
+        where the old one is still the descent (at once if only the robot left its path)."""
+        search = self.search
+        graph, touched, where = search.graph, search.touched, self._where
+        after = -1  # the last old step that may have changed
+        if self._extend or not self._flat or len(touched) > 20000:  # (then descending is cheaper)
+            flat = search.descend(self.prefix or None)
+        else:
+            if touched:  # an old step next to a changed g or cost may have changed
+                near = np.unique(np.asarray(touched, dtype=np.int64))
+                near = (near[:, None] + graph.block[None, :]).ravel()
+                after = int(self._index[near].max())
+            flat = search.descend(self.prefix or None, join=where, after=after)
+        self._index[self._flat] = -1
+        g, w = search.g, graph.width
+        cells = [(v // w - 1, v % w - 1) for v in flat]
+        g_new = [search.path_cost] + [g[v] for v in flat[1:]]
+        j = where.get(flat[-1], -1) if flat and after >= -1 and not self._extend else -1
+        if j > after:  # joined: the old path from there on
+            flat = flat + self._flat[j + 1:]
+            cells += self._path[j + 1:]
+            g_new += self._g_path[j + 1:]
+        self._flat, self._path, self._g_path = flat, cells, g_new
+        self._where = {v: i for i, v in enumerate(flat)}
+        self._index[flat] = np.arange(len(flat))
+        touched.clear()
+        self._costs_changed = self._extend = False
         self.version += 1
-        self._where = {c: i for i, c in enumerate(self._path)}
-        g, index = search.g, search.graph.index
-        self._g_path = [search.path_cost] + [g[index(c)] for c in self._path[1:]]
         self._offset = 0
         self.stale = False
-        return changed, bool(changed) and bool(self._path) and _path_changed(old, self._path)
 
     def _hits_path(self, rows: np.ndarray, cols: np.ndarray, vals: np.ndarray) -> bool:
         """Did a cost on the path ahead change, or did a cell next to it become lethal (a
         diagonal step may cut past it)?"""
         where, start = self._where, max(self._offset, 0)
-        for r, c, val in zip(rows.tolist(), cols.tolist(), vals.tolist(), strict=True):
-            if where.get((r, c), -1) >= start:
+        if not where:
+            return False
+        w = self.search.graph.width
+        flat = ((np.asarray(rows) + 1) * w + np.asarray(cols) + 1).tolist()
+        for v in flat:
+            if where.get(v, -1) >= start:
                 return True
-            if val == INF and any(where.get((r + dr, c + dc), -1) >= start
-                                  for dr in (-1, 0, 1) for dc in (-1, 0, 1)):
-                return True
+        if np.max(vals) == INF:
+            for v, val in zip(flat, np.asarray(vals).tolist(), strict=True):
+                if val == INF and any(where.get(v + b, -1) >= start for b in self.search.graph.block.tolist()):
+                    return True
         return False
 
     def restart(self, cost: np.ndarray, start: Sequence[int]) -> None:
         """Plan anew from scratch on ``cost`` (a forced re-plan)."""
-        goal = self.search.graph.cell(self.search.goal)
-        self.search = DStarLiteSearch(cost, start, goal)
-        self.stale = self._costs_changed = True
+        self._new_search(cost, start, self.search.graph.cell(self.search.goal))
         self.cycle(tuple(start))
 
 
@@ -641,8 +936,8 @@ class DStarLite(Planner):
               "clearance beyond the inscribed one over which the cell cost falls to 1", minimum=0.0),
         # finite, not lethal: a sonar arc drawn over the robot's own surroundings must not cut
         # it off; 1000 makes the planner use such cells only when nothing else is free
-        Param("inflated_cost", 1000.0, "-", "step-cost factor of inscribed cells (no point of the cell "
-              "keeps radius + passage_margin from an occupied cell)", minimum=1.0),
+        Param("inflated_cost", 1000.0, "-", "step-cost factor of inscribed cells (within radius + "
+              "passage_margin of an occupied cell)", minimum=1.0),
         Param("clearance_cost", 5.0, "-", "step-cost factor just beyond the inscribed clearance, falling "
               "as the 4th power to 1 at radius + passage_margin + inflation_margin", minimum=1.0),
         Param("expansions_per_cycle", 250, "-", "D* Lite expansions per control cycle; an unfinished "
@@ -661,8 +956,8 @@ class DStarLite(Planner):
         Param("squeeze_speed", 0.1, "m/s", "speed at which only squeeze_margin is kept; the follower "
               "slides along a corner at this speed when the path's own curvature is not safe",
               minimum=0.01),
-        Param("passage_margin", 0.01, "m", "a cell is inscribed (inflated_cost) when no point of it "
-              "keeps the robot radius plus this from the occupied cells' squares", minimum=0.0),
+        Param("passage_margin", 0.02, "m", "a cell is inscribed (inflated_cost) within the robot radius "
+              "plus this of an occupied cell, centre to centre", minimum=0.0),
         Param("recovery_after_s", 6.0, "s", "start the recovery (back up, rotate, re-plan) after this "
               "long without progress (0: never)", minimum=0.0),
         Param("progress_m", 0.3, "m", "displacement or gain toward the goal that counts as progress",
@@ -705,9 +1000,9 @@ class DStarLite(Planner):
         self._near = self._squares
 
     def required_clearance(self, obs: Observation) -> float:
-        """The clearance (m, from a point of a cell to the nearest occupied cell's square) below
-        which the search treats the whole cell as inscribed: the robot radius plus
-        ``passage_margin`` (half a cell for ``dwa_global``, which has no such parameter)."""
+        """The distance (m, cell centre to the nearest occupied cell's centre) within which the
+        search treats a cell as inscribed: the robot radius plus ``passage_margin`` (half a cell
+        for ``dwa_global``, which has no such parameter)."""
         p = self.settings
         return obs.robot.radius + getattr(p, "passage_margin", 0.5 * p.cell)
 
@@ -717,18 +1012,15 @@ class DStarLite(Planner):
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell, model=p.sonar_model)
         self.shape = self.grid.shape
-        # inscribed cells: no point of them keeps the robot radius plus passage_margin from the
-        # occupied cells' squares (obstacle_distance: exact geometry, the best point of the cell).
-        # The follower's guard keeps radius + squeeze_margin (< passage_margin): a cell the search
-        # passes leaves the guard a band of the difference to drive in. Before, distances went
-        # between cell centres and the guard read the distance of the cell a point fell in:
-        # gaps of four free cells looked like three, and it refused squeezes the robot fits.
+        # inscribed cells: within the robot radius plus passage_margin of an occupied cell,
+        # centre to centre (2 cells with the defaults: a gap of four free cells or fewer is
+        # inscribed, of five is not, however the grid's cells fall on it). The follower's
+        # guard measures exactly, to the parts of the cells the sonars have not seen through:
+        # the grid narrows 0.55-0.6 m gaps to four free cells or five, and the robot passes them.
         self.inscribed = self.required_clearance(obs) / p.cell
         self.margin_cells = p.inflation_margin / p.cell
         self.cap = self.inscribed + self.margin_cells + 1.0  # distances beyond change no cost
-        # a cell's best point is up to ~1.4 cells nearer an occupied square than their centres
-        # are: recomputed windows reach that much farther
-        self.pad = math.ceil(self.cap + 1.5)
+        self.pad = math.ceil(self.cap)
         # the sonars change cells only this far from the robot
         self.window = math.ceil((obs.robot.sonar.max_range + 2 * p.cell) / p.cell) + 1
         self.occupied = np.zeros(self.shape, dtype=bool)
@@ -857,7 +1149,10 @@ class DStarLite(Planner):
         """Cells whose cost changed since the last cycle (rows, cols, new costs).
 
         Only the window the sonars can reach around the robot is compared; distances and costs
-        are recomputed only around the cells whose occupancy flipped."""
+        are recomputed only around the cells whose occupancy flipped. When cells only became
+        occupied (the usual case), distances can only shrink, to the new cells: each new cell
+        lowers its disc of radius ``cap`` to a precomputed patch of distances (the same values
+        a distance transform gives); a freed cell needs the transform around it."""
         h, w = self.shape
         n = self.window
         a0, a1 = max(robot_rc[0] - n, 0), min(robot_rc[0] + n + 1, h)
@@ -866,17 +1161,39 @@ class DStarLite(Planner):
         gr, gc = self.goal_rc[0] - a0, self.goal_rc[1] - b0
         if 0 <= gr < a1 - a0 and 0 <= gc < b1 - b0:
             occ[gr, gc] = False  # the goal cell is never lethal
-        fr, fc = np.nonzero(occ != self.occupied[a0:a1, b0:b1])
-        if len(fr) == 0:
-            return fr, fc, np.zeros(0)
-        self.occupied[a0:a1, b0:b1] = occ
+        known = self.occupied[a0:a1, b0:b1]
+        flipped = occ != known
+        if not flipped.any():
+            return _NO_ROWS, _NO_ROWS, _NO_VALUES
+        fr, fc = np.nonzero(flipped)
+        freed = known[fr, fc]
+        known[fr, fc] = ~freed
+        fr += a0
+        fc += b0
         m = self.pad
-        r0, r1 = max(a0 + fr.min() - m, 0), min(a0 + fr.max() + m + 1, h)
-        c0, c1 = max(b0 + fc.min() - m, 0), min(b0 + fc.max() + m + 1, w)
-        # the window's distances depend on obstacles up to m cells beyond it
-        R0, R1, C0, C1 = max(r0 - m, 0), min(r1 + m, h), max(c0 - m, 0), min(c1 + m, w)
-        dist = obstacle_distance(self.occupied[R0:R1, C0:C1], self.cap)[r0 - R0:r1 - R0, c0 - C0:c1 - C0]
-        self.dist[r0:r1, c0:c1] = dist
+        r0, r1 = max(fr.min() - m, 0), min(fr.max() + m + 1, h)
+        c0, c1 = max(fc.min() - m, 0), min(fc.max() + m + 1, w)
+        if freed.any():  # the box's distances depend on obstacles up to m cells beyond it
+            R0, R1, C0, C1 = max(r0 - m, 0), min(r1 + m, h), max(c0 - m, 0), min(c1 + m, w)
+            orow, ocol = np.nonzero(self.occupied[R0:R1, C0:C1])
+            if len(orow) * (r1 - r0) * (c1 - c0) <= 20000:  # few: every cell to every obstacle
+                dr = np.arange(r0 - R0, r1 - R0)[:, None, None] - orow[None, None, :]
+                dc = np.arange(c0 - C0, c1 - C0)[None, :, None] - ocol[None, None, :]
+                d2 = (dr * dr + dc * dc).min(axis=2, initial=_FAR)  # as the transform: sqrt(dr^2 + dc^2)
+                dist = np.minimum(np.sqrt(d2.astype(float)), self.cap)
+            else:
+                dist = obstacle_distance(self.occupied[R0:R1, C0:C1], self.cap)[r0 - R0:r1 - R0, c0 - C0:c1 - C0]
+            self.dist[r0:r1, c0:c1] = dist
+        else:
+            dist = self.dist[r0:r1, c0:c1]
+            patch = self._patch()
+            for r, c in zip((fr - r0).tolist(), (fc - c0).tolist(), strict=True):
+                # the patch's centre on (r, c), cut to the box
+                pr0, pc0 = max(m - r, 0), max(m - c, 0)
+                br0, bc0 = max(r - m, 0), max(c - m, 0)
+                br1, bc1 = min(r + m + 1, r1 - r0), min(c + m + 1, c1 - c0)
+                sub = dist[br0:br1, bc0:bc1]
+                np.minimum(sub, patch[pr0:pr0 + br1 - br0, pc0:pc0 + bc1 - bc0], out=sub)
         p = self.settings
         new = clearance_costs(dist, self.inscribed, self.margin_cells, p.inflated_cost, p.clearance_cost)
         old = self.cost[r0:r1, c0:c1]
@@ -884,6 +1201,15 @@ class DStarLite(Planner):
         vals = new[dr, dc]
         old[dr, dc] = vals
         return dr + r0, dc + c0, vals
+
+    def _patch(self) -> np.ndarray:
+        """(2 pad + 1, 2 pad + 1) distances from the centre cell, capped at ``cap`` (cached)."""
+        m = self.pad
+        if getattr(self, "_patch_key", None) != (m, self.cap):
+            dr, dc = np.mgrid[-m:m + 1, -m:m + 1]
+            self._patch_cache = np.minimum(np.sqrt((dr * dr + dc * dc).astype(float)), self.cap)
+            self._patch_key = (m, self.cap)
+        return self._patch_cache
 
     def update_path(self, obs: Observation) -> bool:
         """Fuse the sonars into the grid, repair the search (within its budget) and refresh

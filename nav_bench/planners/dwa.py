@@ -13,7 +13,9 @@ DWA searches the robot's *velocity space* (v, omega) instead of its configuratio
   velocity is the last command (the drive follows it under its own acceleration limit).
   The window is sampled on a ``v_samples x omega_samples`` grid (its corners included).
 * **Circular trajectories**: each (v, omega) is held for ``sim_time`` s and rolled out as a
-  circular arc at ``sim_step`` s resolution.
+  circular arc at ``sim_step`` s resolution. Each pose's clearance is its exact distance to the
+  nearest obstacle point; :func:`choose_velocity` computes it only where a cheap bound cannot
+  decide (issue 16: the same decisions, about a quarter of the work).
 * **Admissible velocities**: ``dist(v, omega)`` is the arc length travelled before the robot's
   edge comes within ``min_clearance`` of an obstacle point (``inf`` if it never does; a robot
   already that close may move as long as it comes no closer);
@@ -51,6 +53,7 @@ counting as obstacles; a D* Lite path change emits ``replan``; no path stops the
 
 from __future__ import annotations
 
+import bisect
 import dataclasses
 import math
 from dataclasses import dataclass
@@ -58,12 +61,18 @@ from typing import Any, ClassVar
 
 import numpy as np
 from scipy.spatial import cKDTree
+from scipy.spatial.distance import cdist
 
 from nav_bench.interface import Command, GridState, Observation
 from nav_bench.mapping.occupancy import OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.dstar_lite import DStarLite
 from nav_bench.planners.follow import STOP, EchoMemory
+
+try:  # the compiled loop of scipy.cluster.vq.vq, without its argument checks (nearest_distances)
+    from scipy.cluster._vq import vq as _vq
+except ImportError:  # pragma: no cover - a SciPy that moved it: cdist instead
+    _vq = None
 
 DWA_PARAMS: tuple[Param, ...] = (
     Param("v_max", 0.5, "m/s", "top translation speed (capped by the robot's limit)", minimum=0.0),
@@ -89,6 +98,11 @@ DWA_PARAMS: tuple[Param, ...] = (
 )
 _DSTAR = {p.name: p for p in DStarLite.params}  # the grid's parameters mean the same in both
 GRID_PARAMS: tuple[Param, ...] = (_DSTAR["cell"], _DSTAR["occupied_above"], _DSTAR["sonar_model"])
+# choose_velocity computes exact distances for the middle speed at every ANCHOR_COLUMN_STEP-th
+# turn rate (and the last) and bounds the other poses' from them (3: ~6 of 16 turn rates, the
+# fewest exact distances in all on the issue-16 episodes; 1: every turn rate)
+ANCHOR_COLUMN_STEP = 3
+_ANCHOR_COLUMNS: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
 
 
 @dataclass(frozen=True)
@@ -136,10 +150,74 @@ def edge_clearance(xy: np.ndarray, points: np.ndarray, radius: float) -> float:
     return float(np.sqrt((dx * dx + dy * dy).min())) - radius
 
 
+def linspace(start: float, stop: float, num: int) -> list[float]:
+    """``np.linspace(start, stop, num)`` (num >= 2) as Python floats, the same values to the bit
+    (numpy's operations: ``i * step + start``, or ``i / div * delta + start`` when the step rounds
+    to zero, and ``stop`` last) without numpy's call overhead."""
+    div = num - 1
+    delta = stop - start
+    step = delta / div
+    ys = [i / div * delta + start for i in range(num)] if step == 0 else [
+        i * step + start for i in range(num)]
+    ys[-1] = stop
+    return ys
+
+
+def nearest_distances(q: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """(K,) distance from each of the points ``q`` (K, 2) to the nearest of ``points`` (M >= 1, 2),
+    both float64: ``sqrt(min((px - qx)^2 + (py - qy)^2))``, the value :func:`arc_clearances`' k-d
+    tree and :func:`edge_clearance` give, to the bit (the same squares, sum and correctly rounded
+    sqrt). SciPy's vector quantisation loop (``scipy.cluster.vq.vq``: for each observation the
+    nearest code and its distance) computes exactly that in compiled code, without the (K, M)
+    matrix ``cdist`` would fill; ``cdist`` is the fallback."""
+    if _vq is not None:
+        return _vq(q, points)[1]
+    return np.sqrt(cdist(q, points, "sqeuclidean").min(axis=1))  # pragma: no cover
+
+
+def anchor_columns(nw: int) -> tuple[np.ndarray, np.ndarray]:
+    """For ``nw`` turn-rate samples: the anchor columns (every ``ANCHOR_COLUMN_STEP``-th and the
+    last) and, for each column, the index (in that list) of the nearest anchor column."""
+    key = (nw, ANCHOR_COLUMN_STEP)
+    got = _ANCHOR_COLUMNS.get(key)
+    if got is None:
+        cols = list(range(0, nw, ANCHOR_COLUMN_STEP))
+        if cols[-1] != nw - 1:
+            cols.append(nw - 1)
+        of = [min(range(len(cols)), key=lambda k: abs(cols[k] - j)) for j in range(nw)]
+        got = _ANCHOR_COLUMNS[key] = (np.array(cols), np.array(of))
+    return got
+
+
 def choose_velocity(pose: np.ndarray, goal: np.ndarray, v_now: float, omega_now: float,
                     points: np.ndarray, radius: float, dt: float, p: Any,
                     v_max: float, omega_max: float, v_cap: float = math.inf) -> Choice:
     """One DWA decision (see the module docstring): the best admissible (v, omega).
+
+    The decision of :func:`rollout` and :func:`arc_clearances` over every sample (this function
+    before issue 16; ``tests/planners/test_dwa.py`` keeps it as the reference) at a fraction of
+    the cost: the roll-out poses are :func:`rollout`'s, operation for operation (the trigonometry
+    once per turn rate: it does not depend on v), and the clearances of ~1,100 poses are not all
+    computed. Exact distances (:func:`nearest_distances`, the k-d tree's values) are computed for
+    the *anchor* poses only, the middle speed's at every ``ANCHOR_COLUMN_STEP``-th turn rate; every
+    other pose's distance lies within a margin of its anchor's, since the pose of (v, omega) after
+    t is the robot's position plus v times a vector of length <= t, which moves by at most
+    v t^2 |d omega| / 2 with omega:
+
+        |dist(q) - dist(anchor)| <= |v - v_a| t + v_a |omega - omega_a| t^2 / 2 (+ 1e-9 m).
+
+    The bounds decide what they can; exact distances are computed where they cannot:
+
+    * a collision (clearance below ``min_clearance``) makes a sample inadmissible only before the
+      pose where its stop still fits (FBT's ``v dt + v^2 / (2 a_v) <= arc length``, at each pose
+      index): certain where the upper bound is below the line, exact where the bounds straddle it
+      (against the points that can be that close);
+    * the clearance term only for the samples whose objective with the term at its upper bound
+      reaches the best lower bound of an objective (the others can neither win nor tie), and with
+      no admissible sample for the slowest ones (against the points that can be nearest).
+
+    So the choice is the same, to the bit where numpy's sin and cos are elementwise (libm): the
+    same v and omega, score and count of admissible samples.
 
     Args:
         pose: (3,) x, y, yaw. goal: (2,) the point to head for. v_now, omega_now: current velocity.
@@ -155,39 +233,115 @@ def choose_velocity(pose: np.ndarray, goal: np.ndarray, v_now: float, omega_now:
     w_hi = min(omega_max, omega_now + p.acc_omega * dt)
     if w_lo > w_hi:
         w_lo = w_hi = min(omega_max, max(-omega_max, omega_now))
-    vs = np.linspace(v_lo, v_hi, p.v_samples)
-    ws = np.linspace(w_lo, w_hi, p.omega_samples)
-    if w_lo < 0.0 < w_hi:  # going straight is always a candidate when the window holds it
-        ws = np.unique(np.append(ws, 0.0))
-    vv, ww = (a.ravel() for a in np.meshgrid(vs, ws, indexing="ij"))
+    vs = linspace(v_lo, v_hi, p.v_samples)
+    ws = linspace(w_lo, w_hi, p.omega_samples)
+    if w_lo < 0.0 < w_hi and 0.0 not in ws:  # going straight is always a candidate when the window holds it
+        bisect.insort(ws, 0.0)  # ws ascends: where np.unique put it
+    nv, nw = len(vs), len(ws)
+    n = nv * nw  # samples, v-major (np.meshgrid(vs, ws, indexing="ij") ravelled)
     steps = max(1, round(p.sim_time / p.sim_step))
-    arcs = rollout(pose, vv, ww, steps, p.sim_step)
-    clear = arc_clearances(arcs, points, radius)
-    # already closer than min_clearance (sensing noise, a grid cell's centre): moving away stays
-    # admissible, only coming closer still is a collision
-    now = edge_clearance(np.asarray(pose[:2], dtype=float), points, radius)
-    hit = clear < min(p.min_clearance, now - 1e-6)
-    first = np.where(hit.any(axis=1), hit.argmax(axis=1), steps)  # index of the first colliding pose
-    dist = np.where(first < steps, vv * p.sim_step * first, math.inf)  # arc length before it
+    x, y, yaw = np.asarray(pose, dtype=float)[:3].tolist()
+    va, wa = np.array(vs), np.array(ws)
+    ts = [p.sim_step * i for i in range(1, steps + 1)]
+    t = np.array(ts)[:, None]  # (steps, 1)
+    # the roll-outs, (steps, nv, nw): rollout()'s operations, its heading th = yaw + omega t the
+    # same for every v
+    straight = np.abs(wa) < 1e-9
+    r = va[:, None] / np.where(straight, 1.0, wa)  # (nv, nw)
+    th = yaw + wa * t  # (steps, nw)
+    px = x + r * (np.sin(th) - math.sin(yaw))[:, None, :]
+    py = y - r * (np.cos(th) - math.cos(yaw))[:, None, :]
+    if straight.any():
+        vt = va * t  # (steps, nv)
+        px[:, :, straight] = (x + vt * math.cos(yaw))[:, :, None]
+        py[:, :, straight] = (y + vt * math.sin(yaw))[:, :, None]
+    vv = np.repeat(va, nw)
     # FBT's v <= sqrt(2 dist a_v), with the control period the chosen velocity is held first:
-    # v dt + v^2 / (2 a_v) <= dist
-    admissible = (vv * dt + vv * vv / (2.0 * p.acc_v) <= dist + 1e-12) | (vv <= 1e-9)
-    admissible &= vv <= v_cap + 1e-9
-    end = arcs[:, -1, :]
-    bearing = np.arctan2(goal[1] - end[:, 1], goal[0] - end[:, 0])
-    err = np.abs(np.remainder(bearing - end[:, 2] + math.pi, 2 * math.pi) - math.pi)
-    heading = 1.0 - err / math.pi
+    # v dt + v^2 / (2 a_v) <= dist, the arc length v * sim_step * s before the first colliding
+    # pose s (inf without one). ``short`` (steps, n): the stop does not fit before pose s, so a
+    # collision there makes the sample inadmissible (the same test: dist grows with s)
+    stop = vv * dt + vv * vv / (2.0 * p.acc_v)
+    short = stop > (vv * p.sim_step) * np.arange(steps)[:, None] + 1e-12
+    blocked = np.zeros(n, dtype=bool)
     cap = p.clearance_cap
-    clearance = np.clip(clear.min(axis=1), 0.0, cap) / cap
+    points = np.asarray(points, dtype=float)
+    if len(points):
+        ddx, ddy = points[:, 0] - x, points[:, 1] - y
+        d2 = ddx * ddx + ddy * ddy  # to the robot: edge_clearance's values
+        now = math.sqrt(d2.min()) - radius
+        # already closer than min_clearance (sensing noise, a grid cell's centre): moving away
+        # stays admissible, only coming closer still is a collision
+        line = min(p.min_clearance, now - 1e-6)
+        rho = vs[-1] * ts[-1]  # every pose is within rho of the robot
+        a = nv // 2
+        cols, of = anchor_columns(nw)
+        q = np.empty((steps * len(cols), 2))
+        q[:, 0], q[:, 1] = px[:, a, cols].ravel(), py[:, a, cols].ravel()
+        anchor = nearest_distances(q, points).reshape(steps, 1, len(cols))[:, :, of]
+        # rounding: 1e-9 m, and the cancellation in r (sin(th) - sin(yaw)) when |omega| is tiny
+        eps = 1e-9 + 1e-14 * (float(np.abs(r).max()) * (2.0 + abs(yaw) + float(np.abs(th).max()))
+                              + abs(x) + abs(y))
+        margin = (np.abs(va - vs[a]) * t)[:, :, None] + (
+            vs[a] * np.abs(wa - wa[cols][of])) * (0.5 * t * t)[:, :, None]
+        margin += margin * 1e-9 + eps
+        slack = 1e-6 + eps  # of the distance filters below
+        d_lo = (anchor - margin).reshape(steps, n)  # each pose's distance to the nearest point
+        d_hi = (anchor + margin).reshape(steps, n)  # lies in [d_lo, d_hi]
+        reach = radius + line
+        sure = (d_hi < reach) & short
+        blocked = sure.any(axis=0)
+        maybe = (d_lo < reach) & short & ~sure & ~blocked
+        if maybe.any():
+            i = np.flatnonzero(maybe)
+            near = points[d2 < (rho + reach + slack) ** 2]  # the points a colliding pose can meet
+            if len(near):
+                qq = np.empty((len(i), 2))
+                qq[:, 0], qq[:, 1] = px.ravel()[i], py.ravel()[i]
+                blocked[i[nearest_distances(qq, near) - radius < line] % n] = True
+        row_hi = d_hi.min(axis=0)  # each arc's smallest distance lies in [row_lo, row_hi]
+        lo = np.minimum(np.maximum(d_lo.min(axis=0) - radius, 0.0), cap)  # np.clip(.., 0, cap)
+        hi = np.minimum(np.maximum(row_hi - radius, 0.0), cap)
+    admissible = ~blocked | (vv <= 1e-9)
+    admissible &= vv <= v_cap + 1e-9
+    bearing = np.arctan2(goal[1] - py[-1], goal[0] - px[-1])  # (nv, nw)
+    err = np.abs(np.remainder(bearing - th[-1] + math.pi, 2 * math.pi) - math.pi)
+    heading = (1.0 - err / math.pi).ravel()
     velocity = vv / max(v_max, 1e-9)
-    score = p.k_heading * heading + p.k_clearance * clearance + p.k_velocity * velocity
     moving = admissible & (vv > 1e-9)
+
+    def smallest_clearance(rows: np.ndarray, clipped: bool) -> np.ndarray:
+        """The smallest clearance along the arcs of the samples ``rows``, exact (``clipped``:
+        exact below ``cap``, at least ``cap`` above), against the points that can be nearest to
+        the pose where it is smallest."""
+        if not len(points):
+            return np.full(len(rows), math.inf)
+        top = float(row_hi[rows].max())
+        if clipped:
+            top = min(top, radius + cap)
+        pts = points[d2 <= (rho + top + slack) ** 2]
+        if not len(pts):
+            return np.full(len(rows), math.inf)
+        qq = np.empty((steps * len(rows), 2))
+        qq[:, 0] = px.reshape(steps, n)[:, rows].ravel()
+        qq[:, 1] = py.reshape(steps, n)[:, rows].ravel()
+        return nearest_distances(qq, pts).reshape(steps, len(rows)).min(axis=0) - radius
+
+    score = np.full(n, -math.inf)
     if not admissible.any():  # the window holds no stop (moving too fast): brake, keep clear
-        score = np.where(vv <= vv.min() + 1e-12, clear.min(axis=1), -math.inf)
+        rows = np.flatnonzero(vv <= vv.min() + 1e-12)
+        score[rows] = smallest_clearance(rows, clipped=False)
     else:  # standing still is the last resort: it scores well on heading and goes nowhere
-        score = np.where(moving if moving.any() else admissible, score, -math.inf)
+        ok = moving if moving.any() else admissible
+        if len(points):  # the samples that can win (ties go to the first sample)
+            base = p.k_heading * heading + p.k_velocity * velocity
+            best_lo = (base + p.k_clearance * (lo / cap))[ok].max()
+            rows = np.flatnonzero(ok & (base + p.k_clearance * (hi / cap) + 1e-9 >= best_lo))
+        else:
+            rows = np.flatnonzero(ok)
+        clearance = np.minimum(np.maximum(smallest_clearance(rows, clipped=True), 0.0), cap) / cap
+        score[rows] = p.k_heading * heading[rows] + p.k_clearance * clearance + p.k_velocity * velocity[rows]
     best = int(np.argmax(score))
-    return Choice(float(vv[best]), float(ww[best]), float(score[best]), int(np.count_nonzero(moving)))
+    return Choice(vs[best // nw], ws[best % nw], float(score[best]), int(np.count_nonzero(moving)))
 
 
 class DWA(Planner):
@@ -289,17 +443,22 @@ class DWA(Planner):
 
 
 def occupied_points(grid: OccupancyGrid, xy: np.ndarray, reach: float, above: float) -> np.ndarray:
-    """(M, 2) centres of the cells of ``grid`` above ``above`` within ``reach`` m of ``xy``."""
-    h, w = grid.shape
-    r0, c0 = (int(a) for a in grid.world_to_cell(xy))
-    n = math.ceil(reach / grid.cell)
-    rs, re = max(0, r0 - n), min(h, r0 + n + 1)
-    cs, ce = max(0, c0 - n), min(w, c0 + n + 1)
+    """(M, 2) centres of the cells of ``grid`` above ``above`` within ``reach`` m of ``xy``
+    (row-major; :meth:`~nav_bench.mapping.grid.GridFrame.world_to_cell` and ``cell_center``'s
+    arithmetic in Python floats: the same cells and centres)."""
+    f = grid.frame
+    x, y = float(xy[0]), float(xy[1])
+    r0, c0 = math.floor((y - f.ymin) / f.cell), math.floor((x - f.xmin) / f.cell)
+    n = math.ceil(reach / f.cell)
+    rs, re = max(0, r0 - n), min(f.rows, r0 + n + 1)
+    cs, ce = max(0, c0 - n), min(f.cols, c0 + n + 1)
     if rs >= re or cs >= ce:
         return np.zeros((0, 2))
     rr, cc = np.nonzero(grid.values(copy=False)[rs:re, cs:ce] > above)
-    pts = grid.cell_center(rr + rs, cc + cs).reshape(-1, 2)
-    return pts[np.hypot(pts[:, 0] - xy[0], pts[:, 1] - xy[1]) <= reach]
+    pts = np.empty((len(rr), 2))
+    pts[:, 0] = f.xmin + ((cc + cs) + 0.5) * f.cell
+    pts[:, 1] = f.ymin + ((rr + rs) + 0.5) * f.cell
+    return pts[np.hypot(pts[:, 0] - x, pts[:, 1] - y) <= reach]
 
 
 class DWAGlobal(DStarLite, DWA):
@@ -363,5 +522,5 @@ class DWAGlobal(DStarLite, DWA):
                 "target": self.local_goal.copy()}
 
 
-__all__ = ["DWA", "Choice", "DWAGlobal", "arc_clearances", "choose_velocity", "edge_clearance",
-           "occupied_points", "rollout"]
+__all__ = ["DWA", "Choice", "DWAGlobal", "anchor_columns", "arc_clearances", "choose_velocity",
+           "edge_clearance", "linspace", "nearest_distances", "occupied_points", "rollout"]

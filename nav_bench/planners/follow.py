@@ -240,6 +240,13 @@ class EchoMemory:
     cycle; remembering recent echoes lets a planner reason about what it just drove past.
     Odometry drift over a few seconds is small, so the points stay consistent.
 
+    The memory is, after each :meth:`add`, the earlier points and this cycle's echoes, oldest
+    first, less those older than ``now - horizon``, then the last ``capacity`` of them. Kept in
+    a buffer: while the echo times never decrease (a cycle's time only grows) the points the
+    horizon drops are a prefix, found by bisection, and a cycle's echoes are appended in place
+    (no copy of the whole memory per cycle); otherwise the memory is rebuilt by concatenating
+    and masking. Both give the same points in the same order.
+
     Args:
         horizon: how long an echo is kept, s.
         capacity: at most this many points are kept (oldest dropped first).
@@ -247,62 +254,107 @@ class EchoMemory:
 
     def __init__(self, horizon: float, capacity: int = 4000) -> None:
         self.horizon, self.capacity = horizon, capacity
-        self._xy = np.zeros((0, 2))
-        self._t = np.zeros(0)
+        self.clear()
 
     def clear(self) -> None:
-        self._xy, self._t = np.zeros((0, 2)), np.zeros(0)
+        self._buf_xy, self._buf_t = np.zeros((0, 2)), np.zeros(0)
+        self._lo = self._hi = 0  # the memory is _buf_xy[_lo:_hi] (times _buf_t[_lo:_hi])
+        self._sorted = True  # its times never decrease
+
+    @property
+    def _xy(self) -> np.ndarray:
+        return self._buf_xy[self._lo:self._hi]
+
+    @property
+    def _t(self) -> np.ndarray:
+        return self._buf_t[self._lo:self._hi]
 
     def add(self, obs: Observation) -> None:
         """Store this cycle's echoes and forget those older than the horizon."""
         pts = world_echoes(obs)
+        now = obs.t
+        cut = now - self.horizon
+        lo, hi = self._lo, self._hi
+        if not (self._sorted and now >= cut and (hi == lo or self._buf_t[hi - 1] <= now)):
+            self._rebuild(pts, now, cut)
+            return
+        lo += int(np.searchsorted(self._buf_t[lo:hi], cut, side="left"))  # times >= cut: a suffix
+        k = len(pts)
+        start = slice(-self.capacity, None).indices(hi - lo + k)[0]  # as [-capacity:] would keep
+        lo += start
+        if lo > hi:  # fewer than this cycle's echoes fit
+            pts, k, lo = pts[lo - hi:], k - (lo - hi), hi
+        if hi + k > len(self._buf_t):  # no room after the memory: move it to a larger buffer's front
+            size = max(256, 2 * (hi - lo + k))
+            buf_xy, buf_t = np.empty((size, 2)), np.empty(size)
+            buf_xy[:hi - lo], buf_t[:hi - lo] = self._buf_xy[lo:hi], self._buf_t[lo:hi]
+            self._buf_xy, self._buf_t = buf_xy, buf_t
+            lo, hi = 0, hi - lo
+        self._buf_xy[hi:hi + k] = pts
+        self._buf_t[hi:hi + k] = now
+        self._lo, self._hi = lo, hi + k
+
+    def _rebuild(self, pts: np.ndarray, now: float, cut: float) -> None:
+        """:meth:`add` when times are out of order (or the horizon is odd): mask everything."""
         xy = np.concatenate([self._xy, pts])
-        t = np.concatenate([self._t, np.full(len(pts), obs.t)])
-        keep = t >= obs.t - self.horizon
-        self._xy, self._t = xy[keep][-self.capacity:], t[keep][-self.capacity:]
+        t = np.concatenate([self._t, np.full(len(pts), now)])
+        keep = t >= cut
+        self._buf_xy, self._buf_t = xy[keep][-self.capacity:], t[keep][-self.capacity:]
+        self._lo, self._hi = 0, len(self._buf_t)
+        self._sorted = bool(np.all(self._buf_t[1:] >= self._buf_t[:-1]))
 
     def points(self, center: np.ndarray | None = None, radius: float = math.inf) -> np.ndarray:
         """(M, 2) remembered points, optionally only those within ``radius`` m of ``center``."""
+        xy = self._xy
         if center is None or not math.isfinite(radius):
-            return self._xy.copy()
-        d = np.hypot(self._xy[:, 0] - center[0], self._xy[:, 1] - center[1])
-        return self._xy[d <= radius]
+            return xy.copy()
+        d = np.hypot(xy[:, 0] - center[0], xy[:, 1] - center[1])
+        return xy[d <= radius]
 
     def __len__(self) -> int:
-        return len(self._xy)
+        return self._hi - self._lo
 
 
 # ----------------------------------------------------------------------------- loops
 class LoopDetector:
-    """Has the robot come back to where it started following a boundary?
+    """Has the robot gone once around the boundary it follows?
 
     Armed at a point; fires when the robot returns within ``radius`` m of it after having
-    been farther than ``2 * radius`` and having travelled at least ``min_length`` m.
+    been farther than ``2 * radius``, having travelled at least ``min_length`` m and having
+    turned by at least ``min_turn`` rad in net (one way). A lap around a boundary, from
+    outside or inside, turns the robot by 2 pi in net; a follower that lost the wall and came
+    back the way it went turned by about pi, and is not on a lap.
     """
 
-    def __init__(self, radius: float, min_length: float) -> None:
-        self.radius, self.min_length = radius, min_length
+    def __init__(self, radius: float, min_length: float, min_turn: float = 1.5 * math.pi) -> None:
+        self.radius, self.min_length, self.min_turn = radius, min_length, min_turn
         self.origin: np.ndarray | None = None
         self._left = False
         self._travel = 0.0
+        self._turn = 0.0
         self._last: np.ndarray | None = None
+        self._last_yaw: float | None = None
 
-    def arm(self, xy: np.ndarray) -> None:
+    def arm(self, xy: np.ndarray, yaw: float) -> None:
         self.origin = np.asarray(xy, dtype=float).copy()
-        self._left, self._travel, self._last = False, 0.0, self.origin.copy()
+        self._left, self._travel, self._turn = False, 0.0, 0.0
+        self._last, self._last_yaw = self.origin.copy(), float(yaw)
 
     def disarm(self) -> None:
         self.origin = None
 
-    def update(self, xy: np.ndarray) -> bool:
-        """Feed the current position; True when a full loop is detected."""
+    def update(self, xy: np.ndarray, yaw: float) -> bool:
+        """Feed the current position (m) and heading (rad); True when a full lap is detected."""
         if self.origin is None:
             return False
         xy = np.asarray(xy, dtype=float)
         if self._last is not None:
             self._travel += float(np.hypot(*(xy - self._last)))
-        self._last = xy.copy()
+        if self._last_yaw is not None:
+            self._turn += wrap_angle(float(yaw) - self._last_yaw)
+        self._last, self._last_yaw = xy.copy(), float(yaw)
         d = float(np.hypot(*(xy - self.origin)))
         if d > 2 * self.radius:
             self._left = True
-        return self._left and d < self.radius and self._travel >= self.min_length
+        return (self._left and d < self.radius and self._travel >= self.min_length
+                and abs(self._turn) >= self.min_turn)

@@ -34,11 +34,20 @@ less than TangentBug assumes, which is the point of comparing it on this robot.
   ``unreachable``.
 
 Each switch to boundary following emits a ``replan`` event.
+
+Cost per cycle (issue 16): the remembered echoes within ``R`` are turned into distances,
+bearings and half angles once a cycle (:func:`polar_echoes`) and shared; the full circle of
+``directions`` is evaluated only in motion-to-goal cycles whose goal direction is blocked, by
+:func:`binned_range_function` (only the bins each echo can block, not every bin against every
+echo); boundary following works out the free length toward the goal only when it can make the
+robot leave. Each gives the plain computation's result bit for bit: recorded episodes replay
+to the same commands (``tests/planners/test_tangent_bug.py``, ``benchmarks/bench_tangent_bug.py``).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
@@ -64,19 +73,93 @@ from nav_bench.planners.follow import (
 )
 
 
-def range_function(points: np.ndarray, xy: np.ndarray, grow: float,
+@dataclass(frozen=True)
+class PolarEchoes:
+    """Remembered echoes seen from one position, for the local range function (computed once
+    a cycle and shared by its uses).
+
+    Attributes:
+        points: (M, 2) the echoes, world m.
+        raw: (M,) their distance from the position, m.
+        dist: (M,) ``raw`` but at least 1e-6 m.
+        bearing: (M,) their world direction, rad in [-pi, pi].
+        half: (M,) half angle each grown disc subtends, rad in [0, pi/2].
+    """
+
+    points: np.ndarray
+    raw: np.ndarray
+    dist: np.ndarray
+    bearing: np.ndarray
+    half: np.ndarray
+
+
+def polar_echoes(points: np.ndarray, xy: np.ndarray, grow: float) -> PolarEchoes:
+    """``points`` (M, 2) seen from ``xy`` (2,), each grown by ``grow`` m."""
+    d = points - xy
+    raw = np.hypot(d[:, 0], d[:, 1])
+    dist = np.maximum(raw, 1e-6)
+    bearing = np.arctan2(d[:, 1], d[:, 0])
+    return PolarEchoes(points, raw, dist, bearing, np.arcsin(np.minimum(1.0, grow / dist)))
+
+
+def range_function(points: np.ndarray | PolarEchoes, xy: np.ndarray, grow: float,
                    directions: np.ndarray) -> np.ndarray:
     """``rho`` (D,) of the local range function at ``xy``: for each direction (rad, world), the
     distance (m) of the nearest point of ``points`` (M, 2) whose grown disc (radius ``grow``)
-    the ray passes; ``inf`` where none does."""
-    if len(points) == 0:
+    the ray passes; ``inf`` where none does. ``points`` may be given as :func:`polar_echoes`
+    (then ``xy`` and ``grow`` are not used). Costs D x M: for a few directions; the full circle
+    of bins is :func:`binned_range_function`."""
+    e = points if isinstance(points, PolarEchoes) else polar_echoes(points, xy, grow)
+    if len(e.dist) == 0:
         return np.full(len(directions), np.inf)
-    d = points - xy
-    dist = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)
-    bearing = np.arctan2(d[:, 1], d[:, 0])
-    half = np.arcsin(np.minimum(1.0, grow / dist))
-    diff = np.abs(np.remainder(directions[:, None] - bearing[None, :] + math.pi, 2 * math.pi) - math.pi)
-    return np.where(diff <= half[None, :], dist[None, :], np.inf).min(axis=1)
+    diff = np.abs(np.remainder(directions[:, None] - e.bearing[None, :] + math.pi, 2 * math.pi) - math.pi)
+    return np.where(diff <= e.half[None, :], e.dist[None, :], np.inf).min(axis=1)
+
+
+def range_bins(n: int) -> np.ndarray:
+    """(n,) directions of the binned range function, rad: ``-pi + 2 pi k / n``, CCW."""
+    return np.linspace(-math.pi, math.pi, n, endpoint=False)
+
+
+def binned_range_function(points: np.ndarray | PolarEchoes, xy: np.ndarray, grow: float,
+                          bins: np.ndarray) -> np.ndarray:
+    """:func:`range_function` over the directions ``bins`` = :func:`range_bins` ``(n)``, equal
+    to it bit for bit, at a cost that grows with the bins the points block, not n x M.
+
+    A point blocks the bins within its half angle of its bearing, a run of consecutive bins:
+    only that run, widened by one bin on each side against rounding, is tested (a bin outside
+    it is more than a whole bin, 0.05 rad at 120 bins, beyond the half angle: no rounding
+    reaches that), with the expression of :func:`range_function`:
+    ``|remainder(bin - bearing + pi, 2 pi) - pi| <= half``. The remainder is worked out only
+    where its argument lies outside ``[0, 2 pi)`` (the run crosses the -pi/pi cut): inside, it is
+    the argument itself, exactly. A bin's ``rho`` is the minimum distance of the points that
+    block it, whatever their order. Bins are indexed ``k + n`` (in ``[0, 3n)``: a run reaches at
+    most n/4 + 2 bins past either end of the circle) and folded back at the end."""
+    n = len(bins)
+    e = points if isinstance(points, PolarEchoes) else polar_echoes(points, xy, grow)
+    if len(e.dist) == 0:
+        return np.full(n, np.inf)
+    step = 2 * math.pi / n
+    lo_f = np.floor((e.bearing - e.half + math.pi) / step)
+    hi_f = np.ceil((e.bearing + e.half + math.pi) / step)
+    bearing, half, dist = e.bearing, e.half, e.dist
+    finite = np.isfinite(lo_f) & np.isfinite(hi_f)
+    if not finite.all():  # a NaN point blocks no direction (range_function: NaN <= x is False)
+        lo_f, hi_f, bearing, half, dist = (a[finite] for a in (lo_f, hi_f, bearing, half, dist))
+        if len(dist) == 0:
+            return np.full(n, np.inf)
+    lo = lo_f.astype(np.int64) - 1
+    count = np.clip(hi_f.astype(np.int64) + 1 - lo + 1, 0, n)  # (M,) candidate bins; n covers the circle
+    owner = np.repeat(np.arange(len(dist)), count)  # (C,) the point of each candidate
+    k = np.repeat(lo + n - (np.cumsum(count) - count), count) + np.arange(len(owner))  # (C,) bin + n
+    x = np.concatenate((bins, bins, bins))[k] - bearing[owner] + math.pi
+    wrap = (x < 0.0) | (x >= 2 * math.pi)
+    if wrap.any():
+        x[wrap] = np.remainder(x[wrap], 2 * math.pi)
+    hit = np.abs(x - math.pi) <= half[owner]
+    rho = np.full(3 * n, np.inf)
+    np.minimum.at(rho, k[hit], dist[owner[hit]])
+    return np.minimum(np.minimum(rho[:n], rho[n:2 * n]), rho[2 * n:])
 
 
 def blocked_interval_edges(blocked: np.ndarray, k: int) -> tuple[int, int] | None:
@@ -129,36 +212,48 @@ class TangentBug(Planner):
         self.acquired = False
         self.d_followed = math.inf
         self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius)
-        self.bins = np.linspace(-math.pi, math.pi, p.directions, endpoint=False)
+        self.bins = range_bins(p.directions)
         self._endpoint: list[float] | None = None
         self._prev_xy = np.asarray(obs.pose[:2], dtype=float).copy()
         self._follow_starts: list[list[float]] = []
+        self._polar_echoes: PolarEchoes | None = None  # this cycle's; None: not computed yet
 
     # -- the local range function ------------------------------------------------------------------
     def _sensing_range(self, obs: Observation) -> float:
         return self.settings.sensing_range or obs.robot.sonar.max_range
 
-    def _endpoints(self, obs: Observation, xy: np.ndarray, goal: np.ndarray
-                   ) -> tuple[bool, float, list[tuple[float, float, int]]]:
-        """(goal direction free?, free length toward the goal (m), endpoints as
-        (heading rad, h m, side to keep the obstacle on))."""
+    def _polar(self, obs: Observation, xy: np.ndarray) -> PolarEchoes:
+        """The remembered echoes within the sensing range seen from ``xy``: computed once a cycle
+        (:meth:`act` drops them when it adds the cycle's echoes) and shared by the range
+        functions and the approach to the boundary."""
+        if self._polar_echoes is None:
+            grow = obs.robot.radius + self.settings.clearance
+            self._polar_echoes = polar_echoes(self.memory.points(xy, self._sensing_range(obs)), xy, grow)
+        return self._polar_echoes
+
+    def _free_length(self, obs: Observation, xy: np.ndarray, d_goal: float,
+                     theta_g: float) -> tuple[float, float]:
+        """(``rho`` toward the goal, free length toward the goal ``min(d_goal, R, rho)``), m."""
+        rho_goal = float(range_function(self._polar(obs, xy), xy, 0.0, np.array([theta_g]))[0])
+        return rho_goal, min(d_goal, self._sensing_range(obs), rho_goal)
+
+    def _endpoints(self, obs: Observation, xy: np.ndarray, goal: np.ndarray, d_goal: float, theta_g: float
+                   ) -> tuple[bool, list[tuple[float, float, int]]]:
+        """(goal direction free?, endpoints as (heading rad, h m, side to keep the obstacle on)).
+        Motion to goal only: boundary following needs no endpoints, so never pays for the
+        binned range function."""
         r_sense = self._sensing_range(obs)
-        grow = obs.robot.radius + self.settings.clearance
-        pts = self.memory.points(xy, r_sense)
-        d_goal = float(np.hypot(*(goal - xy)))
-        theta_g = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
-        rho_goal = float(range_function(pts, xy, grow, np.array([theta_g]))[0])
-        free_len = min(d_goal, r_sense, rho_goal)
+        rho_goal, _ = self._free_length(obs, xy, d_goal, theta_g)
         if rho_goal >= d_goal:
-            return True, free_len, []
-        rho = range_function(pts, xy, grow, self.bins)
+            return True, []
+        rho = binned_range_function(self._polar(obs, xy), xy, 0.0, self.bins)
         blocked = rho < d_goal
         n = len(self.bins)
         k_goal = int(np.argmin(np.abs(np.remainder(self.bins - theta_g + math.pi, 2 * math.pi) - math.pi)))
         blocked[k_goal] = True
         edges = blocked_interval_edges(blocked, k_goal)
         if edges is None:
-            return False, free_len, []
+            return False, []
         out = []
         for k_free, k_edge, side in ((edges[0], (edges[0] + 1) % n, LEFT),
                                      (edges[1], (edges[1] - 1) % n, RIGHT)):
@@ -166,7 +261,7 @@ class TangentBug(Planner):
             dist = min(float(rho[k_edge]), r_sense)
             o = xy + dist * np.array([math.cos(heading), math.sin(heading)])
             out.append((heading, dist + float(np.hypot(*(goal - o))), side))
-        return False, free_len, out
+        return False, out
 
     # -- control -----------------------------------------------------------------------------------
     def _start_following(self, obs: Observation, xy: np.ndarray, side: int) -> None:
@@ -174,7 +269,7 @@ class TangentBug(Planner):
         self.mode, self.side, self.acquired = FOLLOW, side, False
         self.follower = WallFollower(side, p.wall_distance, p.v_max, p.front_distance)
         self.d_followed = math.inf
-        self.loop.arm(xy)
+        self.loop.arm(xy, float(obs.pose[2]))
         self._follow_starts.append([float(xy[0]), float(xy[1])])
         self.emit("replan", obs.t, reason="follow_boundary", side="left" if side == LEFT else "right")
 
@@ -182,16 +277,17 @@ class TangentBug(Planner):
         p = self.settings
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         self.memory.add(obs)
+        self._polar_echoes = None  # the memory and the position changed
         v = min(p.v_max, obs.robot.v_max)
         d_goal = float(np.hypot(*(goal - xy)))
         theta_g = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
-        free, free_len, endpoints = self._endpoints(obs, xy, goal)
         moved = float(np.hypot(*(xy - self._prev_xy)))
         self._prev_xy = xy.copy()
         if self.mode == FOLLOW:
-            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+            return self._follow(obs, xy, goal, d_goal, theta_g, v)
         if self.mode == UNREACHABLE:
             return STOP
+        free, endpoints = self._endpoints(obs, xy, goal, d_goal, theta_g)
         ahead = obstacle_ahead(obs, p.front_distance, corridor_half_width(obs.robot))
         if free:
             self._endpoint = None
@@ -199,11 +295,11 @@ class TangentBug(Planner):
             if ahead < min(p.front_distance, d_goal):  # an obstacle the memory did not show
                 side = RIGHT if wrap_angle(theta_g - float(obs.pose[2])) >= 0 else LEFT
                 self._start_following(obs, xy, side)
-                return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+                return self._follow(obs, xy, goal, d_goal, theta_g, v)
             return steer(obs, theta_g, arrival_speed(d_goal, v))
         if not endpoints:  # enclosed in every direction within range
             self._start_following(obs, xy, self.side)
-            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+            return self._follow(obs, xy, goal, d_goal, theta_g, v)
         heading, h, side = min(endpoints, key=lambda e: e[1])
         if self._endpoint is None:  # the goal just got blocked: h starts afresh
             self.h_min, self.stall = math.inf, 0
@@ -214,12 +310,11 @@ class TangentBug(Planner):
             self.stall += 1  # turning on the spot toward an endpoint is not a stall
         if self.stall >= p.stall_cycles or ahead < p.front_distance:
             self._start_following(obs, xy, side)
-            return self._follow(obs, xy, goal, d_goal, theta_g, free_len, endpoints, v)
+            return self._follow(obs, xy, goal, d_goal, theta_g, v)
         return steer(obs, heading, v)
 
     def _follow(self, obs: Observation, xy: np.ndarray, goal: np.ndarray, d_goal: float,
-                theta_g: float, free_len: float, endpoints: list[tuple[float, float, int]],
-                v: float) -> Command:
+                theta_g: float, v: float) -> Command:
         p = self.settings
         assert self.follower is not None
         # near echoes ahead and on the followed side belong to the followed obstacle
@@ -229,25 +324,28 @@ class TangentBug(Planner):
         if side_echo.any():
             hits = obs.sonar_hits()[side_echo]
             self.d_followed = min(self.d_followed, float(np.hypot(*(hits - goal).T).min()))
-        if self.loop.update(xy):
+        if self.loop.update(xy, float(obs.pose[2])):
             self.mode = UNREACHABLE
             self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
             return STOP
-        half_fov = float(np.max(np.abs(obs.robot.sonar.angles))) + obs.robot.sonar.cone / 2
-        in_view = abs(wrap_angle(theta_g - float(obs.pose[2]))) <= half_fov
-        d_reach = d_goal - free_len if in_view else math.inf
-        if self.acquired and d_reach < self.d_followed - p.leave_margin:
-            self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
-            self.loop.disarm()
-            return steer(obs, theta_g, arrival_speed(d_goal, v))
+        # d_reach = d_goal - free length when the goal direction is in view, else inf (never
+        # below d_followed): the free length is only worked out when it can make the robot leave
+        if self.acquired:
+            half_fov = float(np.max(np.abs(obs.robot.sonar.angles))) + obs.robot.sonar.cone / 2
+            if abs(wrap_angle(theta_g - float(obs.pose[2]))) <= half_fov:
+                d_reach = d_goal - self._free_length(obs, xy, d_goal, theta_g)[1]
+                if d_reach < self.d_followed - p.leave_margin:
+                    self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
+                    self.loop.disarm()
+                    return steer(obs, theta_g, arrival_speed(d_goal, v))
         if not self.acquired:  # first approach the boundary: head for the nearest echo
             wall = estimate_wall(obs, self.side, lost=p.wall_distance + 0.6)
             close = wall is not None and wall.distance <= p.wall_distance + 0.1
             near = obstacle_ahead(obs, p.front_distance, corridor_half_width(obs.robot)) < p.front_distance
-            pts = self.memory.points(xy, self._sensing_range(obs))
-            self.acquired = close or near or len(pts) == 0
+            self.acquired = close or near or len(self._polar(obs, xy).points) == 0
             if not self.acquired:
-                nearest = pts[int(np.argmin(np.hypot(*(pts - xy).T)))]
+                e = self._polar(obs, xy)
+                nearest = e.points[int(np.argmin(e.raw))]
                 return steer(obs, math.atan2(nearest[1] - xy[1], nearest[0] - xy[0]), v)
         return self.follower.act(obs)
 

@@ -48,18 +48,32 @@ Borenstein 2000, adds it), so a U trap, a comb's closed pocket or a maze's dead 
 it in a back-and-forth the episode ends as ``stuck`` (oscillating); and a gap narrower than
 ``2 (radius + safety_distance)`` in the map (sonar arcs narrow a gap by a cell a side) is
 never a valley. A reactive method: no ``replan`` events.
+
+Speed (issue 16; ``benchmarks/bench_vfh.py``, ``benchmarks/bench_planning.py``): a cycle reads
+only the window's square of the live map and only its cells above 50 (:func:`read_window`),
+with the cell-centre coordinates precomputed per row and column; each active cell's offset,
+distance and bearing are computed once and shared by the histogram and the turning mask; a
+cell is tested only against the sectors around its bearing (:func:`covered_sectors`, a margin
+of one sector each side) instead of all ``n``. The 1998 paper precomputes each window cell's
+angle and magnitude relative to the window's centre cell; here the robot's exact position is
+used as before, so the tables hold what does not depend on it (cell centres), and the
+histogram, hence every command, is the same bit for bit as testing every sector x cell
+(tests: ``dense_polar_histogram``): each sector still sums its cells in window order.
 """
 
 from __future__ import annotations
 
+import functools
+import itertools
 import math
+from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
 
 from nav_bench.interface import Command, GridState, Observation, StuckReason, wrap_angle
 from nav_bench.mapping.grid import GridFrame
-from nav_bench.mapping.occupancy import OccupancyGrid
+from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import STOP, arrival_speed, limit
 
@@ -70,21 +84,164 @@ def sector_distance(a: np.ndarray | float, b: np.ndarray | float, n: int) -> np.
     return np.minimum(d, n - d)
 
 
+@functools.lru_cache(maxsize=8)
+def sector_centres(n_sectors: int) -> np.ndarray:
+    """(n,) world angle of each sector's centre, rad: ``k * 2 pi / n`` (read-only)."""
+    centres = np.arange(n_sectors) * (2 * math.pi / n_sectors)
+    centres.flags.writeable = False
+    return centres
+
+
+def certainty_from_occupancy(values: np.ndarray, c_max: float) -> np.ndarray:
+    """VFH certainty (same shape, float 0..``c_max``) of occupancy values 0..100 (50 unknown).
+
+    Only evidence of an obstacle counts: unknown and free cells (<= 50) are 0, a cell at 100
+    is ``c_max``, linearly in between. VFH's certainty is evidence that a cell is occupied;
+    the shared grid's log-odds above 0 is exactly that."""
+    occ = np.asarray(values, dtype=float)
+    return np.minimum(np.maximum((occ - 50.0) / 50.0, 0.0), 1.0) * c_max
+
+
+@dataclass(frozen=True)
+class ActiveWindow:
+    """The cells of the active window with certainty > 0 as the robot sees them.
+
+    Attributes:
+        x, y: (M,) cell centres, m.
+        certainty: (M,) certainty, 0..``c_max``.
+        dx, dy: (M,) centre less the robot's position, m.
+        dist: (M,) distance from the robot, m.
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    certainty: np.ndarray
+    dx: np.ndarray
+    dy: np.ndarray
+    dist: np.ndarray
+
+    @classmethod
+    def of_cells(cls, cells_xy: np.ndarray, certainty: np.ndarray, xy: np.ndarray) -> ActiveWindow:
+        """The window of cell centres (M, 2), m, with certainties (M,) seen from ``xy`` (2,)."""
+        cells_xy = np.asarray(cells_xy, dtype=float).reshape(-1, 2)
+        dx, dy = cells_xy[:, 0] - xy[0], cells_xy[:, 1] - xy[1]
+        return cls(cells_xy[:, 0], cells_xy[:, 1], np.asarray(certainty, dtype=float), dx, dy,
+                   np.hypot(dx, dy))
+
+    def __len__(self) -> int:
+        return len(self.dist)
+
+    def bearings(self) -> np.ndarray:
+        """(M,) world angle of each cell from the robot, rad."""
+        return np.arctan2(self.dy, self.dx)
+
+
+@functools.lru_cache(maxsize=4)
+def centre_coordinates(frame: GridFrame) -> tuple[np.ndarray, np.ndarray]:
+    """(W,) x of each column's and (H,) y of each row's cell centres, m: the arithmetic of
+    :meth:`GridFrame.cell_center` done once per frame (read-only)."""
+    xs = frame.xmin + (np.arange(frame.cols).astype(float) + 0.5) * frame.cell
+    ys = frame.ymin + (np.arange(frame.rows).astype(float) + 0.5) * frame.cell
+    xs.flags.writeable = ys.flags.writeable = False
+    return xs, ys
+
+
+def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
+                c_max: float) -> ActiveWindow:
+    """The cells with certainty > 0 within ``radius`` m of ``xy``, in row-major order: the
+    active window of the occupancy ``values`` (H, W) 0..100 laid out by ``frame``. Reads only
+    the window's square of the live map, and converts only its cells above 50 (certainty > 0)."""
+    cell = frame.cell
+    h, w = frame.shape
+    x, y = float(xy[0]), float(xy[1])
+    r0, c0 = math.floor((y - frame.ymin) / cell), math.floor((x - frame.xmin) / cell)  # world_to_cell
+    n = math.ceil(radius / cell) + 1
+    rs, re = max(r0 - n, 0), min(r0 + n + 1, h)
+    cs, ce = max(c0 - n, 0), min(c0 + n + 1, w)
+    if rs >= re or cs >= ce:
+        return ActiveWindow.of_cells(np.zeros((0, 2)), np.zeros(0), xy)
+    square = values[rs:re, cs:ce]
+    above = square > UNKNOWN
+    rr, cc = np.divmod(np.flatnonzero(above), ce - cs)  # row-major, as np.nonzero
+    # certainty_from_occupancy of cells above 50: (occ - 50) / 50 > 0 needs no lower clip
+    cert = np.minimum((square[above] - 50.0) / 50.0, 1.0)
+    cert *= c_max
+    xs, ys = centre_coordinates(frame)
+    cx, cy = xs[cs:ce].take(cc), ys[rs:re].take(rr)
+    dx, dy = cx - x, cy - y
+    dist = np.hypot(dx, dy)
+    if dist.max(initial=0.0) > radius:  # the square's corners: keep the disc
+        near = np.flatnonzero(dist <= radius)
+        cx, cy, cert, dx, dy, dist = (a.take(near) for a in (cx, cy, cert, dx, dy, dist))
+    return ActiveWindow(cx, cy, cert, dx, dy, dist)
+
+
+def active_cells(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
+                 c_max: float) -> tuple[np.ndarray, np.ndarray]:
+    """Centres (M, 2) m and certainties (M,) of the cells with certainty > 0 within ``radius``
+    m of ``xy``: the active window of the occupancy ``values`` (H, W) 0..100 laid out by
+    ``frame`` (:func:`read_window`)."""
+    window = read_window(values, frame, xy, radius, c_max)
+    return np.stack([window.x, window.y], axis=1), window.certainty
+
+
+@functools.lru_cache(maxsize=8)
+def _sector_cycle(n_sectors: int) -> tuple[np.ndarray, np.ndarray]:
+    """Sector numbers ``0..3n-1`` read modulo ``n``: (3n,) the sector and (3n,) its centre,
+    rad (:func:`sector_centres`), for sector numbers shifted by ``n`` into ``[0, 3n)``."""
+    sectors = np.tile(np.arange(n_sectors), 3)
+    centres = np.tile(sector_centres(n_sectors), 3)
+    sectors.flags.writeable = centres.flags.writeable = False
+    return sectors, centres
+
+
+def covered_sectors(beta: np.ndarray, gamma: np.ndarray, n_sectors: int) -> tuple[np.ndarray, np.ndarray]:
+    """(sector, cell) index pairs with ``|k alpha - beta_i| <= gamma_i`` (circular): the sectors
+    each cell's enlargement covers, from its bearing ``beta`` (M,) in ``[-pi, pi]`` and
+    half-width ``gamma`` (M,) in ``[0, pi/2]``, rad; each pair once, by cell.
+
+    Only the sectors around each cell are tested (from one sector below ``(beta - gamma) /
+    alpha``), each with the arithmetic of a test of every sector: ``|((k alpha - beta + pi)
+    mod 2 pi) - pi| <= gamma``, the ``mod`` done as one subtraction of ``2 pi`` where
+    ``k alpha - beta + pi`` is in ``[2 pi, 4 pi)`` (the same number, as the remainder is exact)."""
+    alpha = 2 * math.pi / n_sectors
+    width = min(math.ceil(2 * float(gamma.max()) / alpha) + 3, n_sectors)
+    sectors, centres = _sector_cycle(n_sectors)
+    # sector numbers + n, in [0, 3n): beta - gamma >= -3 pi / 2
+    first = np.floor((beta - gamma) / alpha).astype(np.intp)
+    shifted = first[:, None] + np.arange(n_sectors - 1, n_sectors - 1 + width)  # (M, width)
+    diff = centres.take(shifted)
+    diff -= beta[:, None]
+    diff += math.pi  # in [0, 4 pi)
+    np.subtract(diff, 2 * math.pi, out=diff, where=diff >= 2 * math.pi)
+    diff -= math.pi
+    pairs = np.flatnonzero(np.abs(diff, out=diff) <= gamma[:, None])
+    return sectors.take(shifted.take(pairs)), pairs // width
+
+
+def window_histogram(window: ActiveWindow, bearings: np.ndarray, n_sectors: int, r_rs: float,
+                     d_max: float, b: float) -> np.ndarray:
+    """(n,) primary polar histogram H^p of the ``window`` (its cells' ``bearings`` (M,), rad)."""
+    if len(window) == 0:
+        return np.zeros(n_sectors)
+    dist = np.maximum(window.dist, 1e-6)
+    mag = window.certainty ** 2 * (1.0 + b * (d_max ** 2 - dist ** 2))
+    gamma = np.arcsin(np.minimum(1.0, r_rs / dist))
+    sector, cell = covered_sectors(bearings, gamma, n_sectors)
+    # (n, M): each cell's magnitude in the sectors it covers (each pair once), 0 elsewhere;
+    # each sector then sums its row in window order, zeros between: numpy's pairwise sum of
+    # the full row, bit for bit what a test of every sector x cell gave
+    m = len(window)
+    spread = np.bincount(sector * m + cell, weights=mag.take(cell), minlength=n_sectors * m)
+    return spread.reshape(n_sectors, m).sum(axis=1)
+
+
 def polar_histogram(cells_xy: np.ndarray, certainty: np.ndarray, xy: np.ndarray, n_sectors: int,
                     r_rs: float, d_max: float, b: float) -> np.ndarray:
     """(n,) primary polar histogram H^p at ``xy`` from active cells (M, 2) (centres, m) with
     certainties (M,). Sector ``k`` is centred on world angle ``k * 2 pi / n``."""
-    hist = np.zeros(n_sectors)
-    if len(cells_xy) == 0:
-        return hist
-    d = cells_xy - xy
-    dist = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)
-    beta = np.arctan2(d[:, 1], d[:, 0])
-    mag = certainty.astype(float) ** 2 * (1.0 + b * (d_max ** 2 - dist ** 2))
-    gamma = np.arcsin(np.minimum(1.0, r_rs / dist))
-    centres = np.arange(n_sectors) * (2 * math.pi / n_sectors)
-    diff = np.abs(np.remainder(centres[:, None] - beta[None, :] + math.pi, 2 * math.pi) - math.pi)
-    return np.where(diff <= gamma[None, :], mag[None, :], 0.0).sum(axis=1)
+    window = ActiveWindow.of_cells(cells_xy, certainty, xy)
+    return window_histogram(window, window.bearings(), n_sectors, r_rs, d_max, b)
 
 
 def binary_histogram(primary: np.ndarray, previous: np.ndarray, low: float, high: float) -> np.ndarray:
@@ -92,23 +249,21 @@ def binary_histogram(primary: np.ndarray, previous: np.ndarray, low: float, high
     return np.where(primary > high, True, np.where(primary < low, False, previous))
 
 
-def turning_limits(cells_xy: np.ndarray, certainty: np.ndarray, pose: np.ndarray, radius_turn: float,
-                   r_rs: float, mask_certainty: float) -> tuple[float, float]:
-    """(phi_right, phi_left): the reachable directions relative to the heading, rad, are those
-    in ``(phi_right, phi_left)``; ``(-pi, pi)`` when nothing blocks the turning circles."""
+def window_turning_limits(window: ActiveWindow, bearings: np.ndarray, pose: np.ndarray,
+                          radius_turn: float, r_rs: float, mask_certainty: float) -> tuple[float, float]:
+    """:func:`turning_limits` of the ``window`` (its cells' ``bearings`` (M,), rad)."""
     phi_r, phi_l = -math.pi, math.pi
-    if len(cells_xy) == 0 or radius_turn <= 0:
+    if len(window) == 0 or radius_turn <= 0:
         return phi_r, phi_l
-    x, y, th = pose
+    x, y, th = (float(v) for v in pose[:3])
     s, c = math.sin(th), math.cos(th)
-    right_c = np.array([x + radius_turn * s, y - radius_turn * c])
-    left_c = np.array([x - radius_turn * s, y + radius_turn * c])
-    strong = certainty > mask_certainty
-    pts = cells_xy[strong]
-    rel = np.remainder(np.arctan2(pts[:, 1] - y, pts[:, 0] - x) - th + math.pi, 2 * math.pi) - math.pi
+    strong = np.flatnonzero(window.certainty > mask_certainty)
+    rel = np.remainder(bearings.take(strong) - th + math.pi, 2 * math.pi) - math.pi
+    px, py = window.x.take(strong), window.y.take(strong)
     reach2 = (radius_turn + r_rs) ** 2
-    block_r = (rel < 0) & (np.sum((pts - right_c) ** 2, axis=1) < reach2)
-    block_l = (rel > 0) & (np.sum((pts - left_c) ** 2, axis=1) < reach2)
+    # squared distances to the right and left circles' centres
+    block_r = (rel < 0) & ((px - (x + radius_turn * s)) ** 2 + (py - (y - radius_turn * c)) ** 2 < reach2)
+    block_l = (rel > 0) & ((px - (x - radius_turn * s)) ** 2 + (py - (y + radius_turn * c)) ** 2 < reach2)
     if block_r.any():
         phi_r = float(rel[block_r].max())
     if block_l.any():
@@ -116,13 +271,20 @@ def turning_limits(cells_xy: np.ndarray, certainty: np.ndarray, pose: np.ndarray
     return phi_r, phi_l
 
 
+def turning_limits(cells_xy: np.ndarray, certainty: np.ndarray, pose: np.ndarray, radius_turn: float,
+                   r_rs: float, mask_certainty: float) -> tuple[float, float]:
+    """(phi_right, phi_left): the reachable directions relative to the heading, rad, are those
+    in ``(phi_right, phi_left)``; ``(-pi, pi)`` when nothing blocks the turning circles."""
+    window = ActiveWindow.of_cells(cells_xy, certainty, np.asarray(pose[:2], dtype=float))
+    return window_turning_limits(window, window.bearings(), pose, radius_turn, r_rs, mask_certainty)
+
+
 def masked_histogram(binary: np.ndarray, heading: float, phi_r: float, phi_l: float) -> np.ndarray:
     """(n,) bool H^m: blocked if H^b is, or if the sector is outside ``(phi_r, phi_l)``."""
-    n = len(binary)
-    centres = np.arange(n) * (2 * math.pi / n)
-    rel = np.remainder(centres - heading + math.pi, 2 * math.pi) - math.pi
-    reachable = (rel > phi_r) & (rel < phi_l) if (phi_r > -math.pi or phi_l < math.pi) else np.ones(n, bool)
-    return binary | ~reachable
+    if not (phi_r > -math.pi or phi_l < math.pi):  # nothing out of reach
+        return binary.copy()
+    rel = np.remainder(sector_centres(len(binary)) - heading + math.pi, 2 * math.pi) - math.pi
+    return binary | ~((rel > phi_r) & (rel < phi_l))
 
 
 def candidate_directions(masked: np.ndarray, k_target: float, s_max: int) -> list[float]:
@@ -133,21 +295,20 @@ def candidate_directions(masked: np.ndarray, k_target: float, s_max: int) -> lis
     the target if it lies between those two.
     """
     n = len(masked)
-    if masked.all():
+    blocked = np.flatnonzero(masked)
+    if len(blocked) == n:
         return []
-    if not masked.any():
+    if len(blocked) == 0:
         return [float(k_target) % n]
-    start = int(np.flatnonzero(masked)[0])  # rotate so that a blocked sector comes first
+    start = int(blocked[0])  # rotate so that a blocked sector comes first
+    # valleys: the gaps between consecutive blocked sectors of the rotated circle
+    ends = [*(blocked - start).tolist(), n]
     out: list[float] = []
-    k = 0
-    while k < n:
-        if masked[(start + k) % n]:
-            k += 1
+    for b0, b1 in itertools.pairwise(ends):
+        width = b1 - b0 - 1
+        if width <= 0:
             continue
-        run_start = k
-        while k < n and not masked[(start + k) % n]:
-            k += 1
-        k_r, width = start + run_start, k - run_start  # k_r.. k_r + width - 1 (unwrapped)
+        k_r = start + b0 + 1  # k_r .. k_r + width - 1 (unwrapped)
         k_l = k_r + width - 1
         if width <= s_max:
             out.append((k_r + (width - 1) / 2) % n)
@@ -162,13 +323,18 @@ def candidate_directions(masked: np.ndarray, k_target: float, s_max: int) -> lis
 
 def choose_direction(candidates: list[float], k_target: float, k_heading: float, k_prev: float,
                      n: int, mu: tuple[float, float, float]) -> float | None:
-    """The candidate of least ``mu1 D(c, target) + mu2 D(c, heading) + mu3 D(c, previous)``."""
+    """The candidate of least ``mu1 D(c, target) + mu2 D(c, heading) + mu3 D(c, previous)``
+    (the first one on a tie)."""
     if not candidates:
         return None
-    c = np.asarray(candidates)
-    cost = (mu[0] * sector_distance(c, k_target, n) + mu[1] * sector_distance(c, k_heading, n)
-            + mu[2] * sector_distance(c, k_prev, n))
-    return float(c[int(np.argmin(cost))])
+
+    def dist(a: float, b: float) -> float:  # sector_distance in scalars
+        d = abs(a - b) % n
+        return min(d, n - d)
+
+    costs = [mu[0] * dist(c, k_target) + mu[1] * dist(c, k_heading) + mu[2] * dist(c, k_prev)
+             for c in candidates]
+    return float(candidates[costs.index(min(costs))])
 
 
 def relax_factors(relax_max: float) -> list[float]:
@@ -212,36 +378,6 @@ def select_direction(primary: np.ndarray, masked: np.ndarray, phi_r: float, phi_
         if k is not None:
             return k, relaxed, factor
     return None, masked, 1.0
-
-
-def certainty_from_occupancy(values: np.ndarray, c_max: float) -> np.ndarray:
-    """VFH certainty (same shape, float 0..``c_max``) of occupancy values 0..100 (50 unknown).
-
-    Only evidence of an obstacle counts: unknown and free cells (<= 50) are 0, a cell at 100
-    is ``c_max``, linearly in between. VFH's certainty is evidence that a cell is occupied;
-    the shared grid's log-odds above 0 is exactly that."""
-    occ = np.asarray(values, dtype=float)
-    return np.clip((occ - 50.0) / 50.0, 0.0, 1.0) * c_max
-
-
-def active_cells(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
-                 c_max: float) -> tuple[np.ndarray, np.ndarray]:
-    """Centres (M, 2) m and certainties (M,) of the cells with certainty > 0 within ``radius``
-    m of ``xy``: the active window of the occupancy ``values`` (H, W) 0..100 laid out by
-    ``frame``. Only the window's square is read (the live map, no copy)."""
-    cell = frame.cell
-    h, w = frame.shape
-    r0, c0 = (int(v) for v in frame.world_to_cell(xy))
-    n = math.ceil(radius / cell) + 1
-    rs, re = max(r0 - n, 0), min(r0 + n + 1, h)
-    cs, ce = max(c0 - n, 0), min(c0 + n + 1, w)
-    if rs >= re or cs >= ce:
-        return np.zeros((0, 2)), np.zeros(0)
-    cert = certainty_from_occupancy(values[rs:re, cs:ce], c_max)
-    rr, cc = np.nonzero(cert)
-    centres = frame.cell_center(rr + rs, cc + cs)
-    near = np.hypot(centres[:, 0] - xy[0], centres[:, 1] - xy[1]) <= radius
-    return centres[near], cert[rr, cc][near]
 
 
 class VFHPlus(Planner):
@@ -306,17 +442,19 @@ class VFHPlus(Planner):
         d_goal = float(np.hypot(*(goal - xy)))
         r_rs = robot.radius + p.safety_distance
         # obstacles beyond the goal cannot block the way to it: the window shrinks to the goal
-        cells, cert = active_cells(self.grid.values(copy=False), self.frame, xy, min(p.window_radius, d_goal), p.c_max)
-        self.primary = polar_histogram(cells, cert, xy, self.n, r_rs, p.window_radius,
-                                       p.distance_weight)
+        window = read_window(self.grid.values(copy=False), self.frame, xy, min(p.window_radius, d_goal),
+                             p.c_max)
+        bearings = window.bearings()
+        self.primary = window_histogram(window, bearings, self.n, r_rs, p.window_radius, p.distance_weight)
         self.binary = binary_histogram(self.primary, self.binary, p.threshold_low, p.threshold_high)
         radius_turn = abs(self.v_prev) / robot.omega_max
-        phi_r, phi_l = turning_limits(cells, cert, obs.pose, radius_turn, r_rs, p.mask_certainty)
+        phi_r, phi_l = window_turning_limits(window, bearings, obs.pose, radius_turn, r_rs, p.mask_certainty)
         self.masked = masked_histogram(self.binary, yaw, phi_r, phi_l)
         k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
         k_heading = self._sector(yaw)
         # relaxed thresholds must not open a sector toward a cell within r_rs + one cell
-        near = (near_sectors(cells, cert, xy, self.n, r_rs, r_rs + p.cell, p.mask_certainty)
+        near = (near_sectors(np.stack([window.x, window.y], axis=1), window.certainty, xy, self.n, r_rs,
+                             r_rs + p.cell, p.mask_certainty)
                 if self.masked.all() else None)
         k, self.masked, factor = select_direction(
             self.primary, self.masked, phi_r, phi_l, yaw, (k_target, k_heading, self.k_prev), p, near)

@@ -29,7 +29,7 @@ from nav_bench.sim.movers import MoverBodies
 from nav_bench.sim.robot import DiffDriveRobot
 from nav_bench.sim.scene import DEFAULT_LAYOUT, SceneLayout, StaticScene, build_static_scene
 from nav_bench.sim.session import SimSession
-from nav_bench.sim.sonar import RayBundle, SonarArray, noisy_readings
+from nav_bench.sim.sonar import SonarArray, noisy_readings
 from nav_bench.specs import RobotSpec, WorldSpec
 from nav_bench.world.geometry import static_geometry
 
@@ -53,7 +53,6 @@ class Simulation:
 
     Attributes:
         robot_info: geometry and limits for the planner (from the URDF and the config).
-        last_rays: rays of the last :meth:`sense` (``None`` before the first).
         timing: cumulative wall-clock seconds in ``"physics"`` (:meth:`step`) and
             ``"sensing"`` (:meth:`sense`).
         contact_reads: physics steps in which Bullet's contact points were read.
@@ -99,7 +98,6 @@ class Simulation:
                             offsets=model.sonar_mounts[:, :2].copy(),
                             cone=math.radians(spec.sonar.cone_deg),
                             min_range=spec.sonar.min_range, max_range=spec.sonar.max_range))
-        self.last_rays: RayBundle | None = None
         self.timing = {"physics": 0.0, "sensing": 0.0}
         self._steps = 0
         self._contacts = ContactEpisodes()
@@ -113,6 +111,7 @@ class Simulation:
         self._robot_id = self.robot.body_id
         self._step_physics = client.stepSimulation
         self._contact_points = client.getContactPoints
+        self._matrix_of = client.getMatrixFromQuaternion
         self._debug_items: dict[str, list[int]] = {}
 
     # -- time ----------------------------------------------------------------------------------
@@ -184,8 +183,8 @@ class Simulation:
         """(K,) sonar readings in m, in ``robot_info.sonar`` order (noise and dropout applied)."""
         start = time.perf_counter()
         pos, orn = self.robot.link_pose()
-        rotation = np.asarray(self.session.client.getMatrixFromQuaternion(orn)).reshape(3, 3)
-        ranges, hit, self.last_rays = self.sonar.cast(pos, rotation)
+        rotation = np.asarray(self._matrix_of(orn)).reshape(3, 3)
+        ranges, hit = self.sonar.cast(pos, rotation)
         out = noisy_readings(ranges, hit, self.robot_spec.sonar, self.rng)
         self.timing["sensing"] += time.perf_counter() - start
         return out
@@ -240,7 +239,7 @@ class Simulation:
 
     def draw_rays(self) -> None:
         """Show the rays of the last :meth:`sense`: echoes red, misses green."""
-        rays = self.last_rays
+        rays = self.sonar.last_rays()
         if rays is None or not self.session.gui:
             return
         seg = np.stack([rays.starts, rays.ends], axis=1)

@@ -18,6 +18,8 @@ from pybullet_utils.bullet_client import BulletClient
 from nav_bench.sim.session import RAY_MASK
 from nav_bench.specs import SonarSpec
 
+MISS = 2.0  # the ray fraction a miss is given while cones are reduced (hits are in [0, 1])
+
 
 @dataclass(frozen=True)
 class RayBundle:
@@ -60,10 +62,14 @@ def noisy_readings(ranges: np.ndarray, hit: np.ndarray, spec: SonarSpec,
         (K,) readings, m.
     """
     k = len(ranges)
-    noise = rng.standard_normal(k) * spec.noise_std
+    noise = rng.standard_normal(k)
+    noise *= spec.noise_std
     lost = rng.random(k) < spec.dropout
-    out = np.where(hit, np.clip(ranges + noise, spec.min_range, spec.max_range), spec.max_range)
-    return np.where(lost, spec.max_range, out)
+    # np.minimum/np.maximum: the same values as np.clip at a fraction of its call overhead
+    echo = np.minimum(np.maximum(ranges + noise, spec.min_range), spec.max_range)
+    out = np.where(hit, echo, spec.max_range)
+    out[lost] = spec.max_range
+    return out
 
 
 class SonarArray:
@@ -88,32 +94,47 @@ class SonarArray:
         self._ray_yaw = (self.yaws[:, None] + spread[None, :]).reshape(-1)
         self._ray_mount = np.repeat(self.mounts, self.rays, axis=0)
         self._cast = client.rayTestBatch
+        self._max_range, self._min_range = float(spec.max_range), float(spec.min_range)
+        self._direction = np.zeros((len(self._ray_yaw), 3))
+        self._last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def cast(self, position: tuple[float, float, float], rotation: np.ndarray
-             ) -> tuple[np.ndarray, np.ndarray, RayBundle]:
+             ) -> tuple[np.ndarray, np.ndarray]:
         """True (noise-free) readings for a robot base frame at ``position`` / ``rotation``.
 
         Args:
             position: (3,) base frame origin in the world, m.
             rotation: (3, 3) base frame rotation matrix (columns: its axes in the world).
         Returns:
-            ``(ranges (K,), hit (K,), rays)``: clipped nearest hit per cone in m (max_range
-            without echo), whether the cone saw anything, and the rays for drawing.
+            ``(ranges (K,), hit (K,))``: clipped nearest hit per cone in m (max_range
+            without echo) and whether the cone saw anything. :meth:`last_rays` draws them.
         """
-        spec = self.spec
-        starts = self._ray_mount @ rotation.T + np.asarray(position)
+        starts = self._ray_mount @ rotation.T
+        starts += position
         heading = math.atan2(rotation[1, 0], rotation[0, 0])
         yaw = heading + self._ray_yaw  # horizontal rays even if the body pitches slightly
-        direction = np.stack([np.cos(yaw), np.sin(yaw), np.zeros_like(yaw)], axis=1)
-        ends = starts + spec.max_range * direction
+        direction = self._direction  # (N, 3), its z column stays 0
+        np.cos(yaw, out=direction[:, 0])
+        np.sin(yaw, out=direction[:, 1])
+        ends = direction * self._max_range
+        ends += starts
         results = self._cast(starts.tolist(), ends.tolist(), collisionFilterMask=RAY_MASK)
-        hit = np.fromiter((r[0] >= 0 for r in results), dtype=bool, count=len(results))
-        fraction = np.fromiter((r[2] for r in results), dtype=float, count=len(results))
-        fraction = np.where(hit, fraction, 1.0)
-        distance = (fraction * spec.max_range).reshape(self.count, self.rays)
-        cone_hit = hit.reshape(self.count, self.rays).any(axis=1)
-        ranges = np.where(cone_hit, np.clip(distance.min(axis=1), spec.min_range, spec.max_range),
-                          spec.max_range)
-        bundle = RayBundle(starts=starts, ends=starts + (fraction * spec.max_range)[:, None]
-                           * direction, hit=hit)
-        return ranges, cone_hit, bundle
+        # one pass over PyBullet's tuples; a miss (object id -1) gets MISS, above any hit's
+        # fraction (at most 1), so a cone's minimum is its nearest hit if it has one
+        fraction = np.array([r[2] if r[0] >= 0 else MISS for r in results])
+        nearest = fraction.reshape(self.count, self.rays).min(axis=1)
+        cone_hit = nearest <= 1.0
+        distance = nearest * self._max_range
+        ranges = np.where(cone_hit, np.minimum(np.maximum(distance, self._min_range),
+                                               self._max_range), self._max_range)
+        self._last = (starts, direction.copy(), fraction)
+        return ranges, cone_hit
+
+    def last_rays(self) -> RayBundle | None:
+        """The rays of the last :meth:`cast`, for drawing (``None`` before the first)."""
+        if self._last is None:
+            return None
+        starts, direction, fraction = self._last
+        hit = fraction <= 1.0
+        reach = np.where(hit, fraction, 1.0) * self._max_range
+        return RayBundle(starts=starts, ends=starts + reach[:, None] * direction, hit=hit)

@@ -188,3 +188,25 @@ def test_unknown_sonar_model_is_refused_with_the_choices() -> None:
         OccupancyGrid((0, 0, 1, 1), model="muriel")
     with pytest.raises(InputError, match="echo_share"):
         OccupancyGrid((0, 0, 1, 1), echo_share=0.0)
+
+
+@pytest.mark.parametrize("bins", [720, 45])
+def test_the_cone_tables_bin_width_does_not_change_the_map(bins: int, monkeypatch) -> None:
+    # the per-direction tables only pick candidate cells (a superset of each cone's, in the
+    # disc's order): 0.5 deg or 8 deg bins give the default 2 deg bins' map bit for bit
+    import nav_bench.mapping.occupancy as occupancy
+
+    rng = np.random.default_rng(9)
+    sonar = diffbot_sonar()
+    steps = [(np.array([rng.uniform(0.5, 5.5), rng.uniform(0.5, 4.5), rng.uniform(-np.pi, np.pi)]),
+              np.where(rng.random(6) < 0.3, 3.0, rng.uniform(0.1, 2.9, 6))) for _ in range(20)]
+    default = OccupancyGrid((0.0, 0.0, 6.0, 5.0))
+    for pose, ranges in steps:
+        default.update(pose, ranges, sonar)
+    monkeypatch.setattr(occupancy, "_AXIS_BINS", bins)
+    monkeypatch.setattr(occupancy, "_AXIS_BIN", 2 * math.pi / bins)
+    other = OccupancyGrid((0.0, 0.0, 6.0, 5.0))
+    for pose, ranges in steps:
+        other.update(pose, ranges, sonar)
+    np.testing.assert_array_equal(other.log_odds, default.log_odds)
+    np.testing.assert_array_equal(other.values(), default.values())

@@ -9,7 +9,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pytest
 
 from nav_bench.interface import Command, Observation
 from nav_bench.planners.dstar_lite import DStarLite, clearance_costs, obstacle_distance
@@ -54,24 +53,22 @@ def test_clearance_is_the_distance_to_the_occupied_cells_squares() -> None:
     assert np.all(got <= np.array(expected[:3]) + 1e-12) and np.all(got >= np.array(expected[:3]) - 0.006)
 
 
-def test_obstacle_distance_tells_four_free_cells_from_three() -> None:
-    # between occupied columns 0 and 5 (four free cells) the middle line, a cell edge, is two
-    # cells from both squares; between 0 and 4 (three free) the best point is 1.5 cells away.
-    # Distances between cell centres are 2 in both.
-    four = np.zeros((3, 12), dtype=bool)
-    four[:, [0, 5]] = True
-    three = np.zeros((3, 12), dtype=bool)
-    three[:, [0, 4]] = True
-    np.testing.assert_allclose(obstacle_distance(four, 9.0)[1, :6], [0, 1, 2, 2, 1, 0])
-    np.testing.assert_allclose(obstacle_distance(three, 9.0)[1, :5], [0, 1, 1.5, 1, 0])
-    # one obstacle: the distance between the cells' centres
-    one = np.zeros((9, 9), dtype=bool)
-    one[4, 4] = True
-    d = obstacle_distance(one, 9.0)
-    assert d[4, 7] == 3.0 and d[6, 6] == pytest.approx(math.hypot(2, 2))
-    # a 0.18 m robot with 1 cm to spare (0.1 m cells: inscribed 1.9 cells) passes four, not three
-    assert clearance_costs(obstacle_distance(four, 9.0), 1.9, 3.0, 1000.0, 5.0)[1, 2] < 1000.0
-    assert clearance_costs(obstacle_distance(three, 9.0), 1.9, 3.0, 1000.0, 5.0)[1, 2] == 1000.0
+def test_a_gap_of_four_free_cells_is_inscribed_and_one_of_five_is_not() -> None:
+    # the search's costs go by distances between cell centres (the planner's map updates lower
+    # them by a patch per new obstacle cell): with the default robot (0.18 m) + passage_margin
+    # (0.02 m) = 2 cells, the middle of a gap of four free cells (0.4 m on the grid) is inscribed,
+    # of five (0.5 m) is not. The grid narrows a true 0.55-0.6 m gap to four or five free
+    # cells; the guard, which measures exactly, passes the robot either way once it is there.
+    def gap(free: int) -> np.ndarray:
+        occ = np.zeros((3, 14), dtype=bool)
+        occ[:, [0, free + 1]] = True
+        return obstacle_distance(occ, 9.0)
+
+    np.testing.assert_allclose(gap(4)[1, :6], [0, 1, 2, 2, 1, 0])
+    np.testing.assert_allclose(gap(5)[1, :7], [0, 1, 2, 3, 2, 1, 0])
+    inscribed = (0.18 + 0.02) / 0.1
+    assert clearance_costs(gap(4), inscribed, 3.5, 1000.0, 5.0)[1, 2] == 1000.0
+    assert clearance_costs(gap(5), inscribed, 3.5, 1000.0, 5.0)[1, 3] < 5.0
 
 
 # --------------------------------------------------------------------------- the guard in a gap

@@ -25,6 +25,7 @@ from nav_bench.planners.dstar_lite import (
     clearance_costs,
     disk,
     obstacle_distance,
+    uniform_costs_to_go,
 )
 from nav_bench.planners.footprint import GuardSettings, echo_blocks, guard, rollout
 from nav_bench.specs import PlannerSetSpec
@@ -211,16 +212,15 @@ def test_unreachable_goal_stops_and_says_so() -> None:
 # --------------------------------------------------------------------------- clearance cost
 def test_clearance_cost_puts_the_path_down_the_middle_of_a_corridor() -> None:
     # a 0.9 m corridor (rows 1..9 free between walls in rows 0 and 10), 0.1 m cells, robot
-    # radius 0.2 m (2 cells), margin 0.35 m: row 5 is 4.5 cells from both walls' squares (its
-    # centre; 5 between cell centres), the cheapest
+    # radius 0.2 m (2 cells), margin 0.35 m: row 5 is 5 cells from both walls, the cheapest
     occ = np.zeros((11, 40), dtype=bool)
     occ[0, :] = occ[10, :] = True
     dist = obstacle_distance(occ, 6.5)
-    np.testing.assert_allclose(dist[:, 20], [0, 1, 2, 3, 4, 4.5, 4, 3, 2, 1, 0])
+    np.testing.assert_allclose(dist[:, 20], [0, 1, 2, 3, 4, 5, 4, 3, 2, 1, 0])
     cost = clearance_costs(dist, 2.0, 3.5, 1000.0, 5.0)
     assert cost[0, 0] == INF and cost[2, 0] == 1000.0  # occupied; inscribed (2 cells)
-    assert cost[5, 0] == pytest.approx(1.0 + 4.0 * (1.0 / 3.5) ** CLEARANCE_POWER, abs=1 / 128)
-    assert cost[3, 0] > cost[4, 0] > cost[5, 0] > 1.0
+    assert cost[5, 0] == pytest.approx(1.0 + 4.0 * (0.5 / 3.5) ** CLEARANCE_POWER, abs=1 / 128)
+    assert cost[3, 0] > cost[4, 0] > cost[5, 0] >= 1.0
     _c, path = astar(cost, (3, 1), (7, 38))  # from off-centre to off-centre
     middle = [rc for rc in path if 6 <= rc[1] <= 33]
     assert middle == [(5, c) for c in range(6, 34)]
@@ -285,6 +285,153 @@ def test_a_robot_moving_along_its_path_only_advances_an_offset() -> None:
     repair.cycle((6, 5))  # off the path: the descent rejoins it
     assert repair.cells[0] == (6, 5) and repair.cells[-1] == (5, 29)
     assert path_cost(cost, repair.cells) == pytest.approx(astar(cost, (6, 5), (5, 29))[0])
+
+
+# --------------------------------------------------------------------------- planning at once, splicing
+def consistent(search: DStarLiteSearch) -> bool:
+    """Is every inner cell's rhs, recomputed from its successors, bit for bit its g?"""
+    graph = search.graph
+    return all(search._recompute_rhs(s) == search.g[s] for s in range(len(graph.cost))
+               if graph.inner[s] and s != search.goal)
+
+
+def test_uniform_costs_to_go_adds_the_steps_as_the_search_does() -> None:
+    field = uniform_costs_to_go(5, 6, (0, 0))
+    s2 = math.sqrt(2)
+    assert field[0, 0] == 0.0 and field[0, 4] == 4.0 and field[2, 2] == s2 + s2
+    # (row 3, col 2): a straight step then two diagonals, or a diagonal first: the smaller sum
+    assert field[3, 2] == min(1.0 + (s2 + s2), s2 + (1.0 + s2))
+    assert field[4, 5] == pytest.approx(1.0 + 4 * s2, abs=1e-12)
+    search = DStarLiteSearch(np.full((7, 9), 2.5), (6, 8), (2, 3))
+    search.plan_from_scratch()
+    assert search.heap == [] and search.settled
+    assert consistent(search)  # one ulp off would queue cells at the first change
+    assert search.path_cost == pytest.approx(2.5 * (4 * s2 + 1), abs=1e-12)
+    assert search.compute() == 0
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_planning_at_once_equals_the_search_from_scratch(seed: int) -> None:
+    rng = np.random.default_rng(200 + seed)
+    h, w = (int(v) for v in rng.integers(15, 40, 2))
+    cost = np.round(1.0 + 3.0 * rng.random((h, w)), 2)
+    cost[rng.random((h, w)) < 0.2] = INF  # lethal cells: diagonals may not cut past them
+    start, goal = (1, 1), (h - 2, w - 2)
+    cost[start] = cost[goal] = 1.0
+    at_once = DStarLiteSearch(cost, start, goal)
+    at_once.plan_from_scratch()
+    expanded = DStarLiteSearch(cost, start, goal)
+    expanded.compute()
+    assert at_once.path_cost == expanded.path_cost  # the same sums: equal, not just close
+    assert at_once.path() == expanded.path()
+    assert at_once.path_cost == astar(cost, start, goal)[0] or at_once.path_cost == pytest.approx(
+        astar(cost, start, goal)[0], abs=1e-9)
+    assert consistent(at_once)
+    # and it repairs like any other state
+    rows, cols = rng.integers(0, h, 6), rng.integers(0, w, 6)
+    cost[rows, cols] = np.where(rng.random(6) < 0.5, INF, 1.0)
+    cost[start] = cost[goal] = 1.0
+    at_once.set_costs(rows, cols, cost[rows, cols])
+    at_once.compute()
+    expected = astar(cost, start, goal)[0]
+    assert at_once.path_cost == pytest.approx(expected, abs=1e-9) or expected == INF == at_once.path_cost
+
+
+def test_set_costs_counts_real_changes_and_keeps_the_last_of_a_repeated_cell() -> None:
+    search = DStarLiteSearch(np.ones((6, 6)), (0, 0), (5, 5))
+    search.plan_from_scratch()
+    changed = search.set_costs([2, 2, 3, 4], [2, 2, 3, 4], [INF, 4.0, 1.0, 1.5])
+    assert changed == 3  # (2, 2) twice, (3, 3) unchanged
+    graph = search.graph
+    assert graph.cost[graph.index((2, 2))] == 4.0 and graph.cost[graph.index((4, 4))] == 1.5
+    np.testing.assert_array_equal(graph.cost_array, graph.cost)
+    search.compute()
+    cost = np.ones((6, 6))
+    cost[2, 2], cost[4, 4] = 4.0, 1.5
+    assert search.path_cost == pytest.approx(astar(cost, (0, 0), (5, 5))[0], abs=1e-12)
+    assert search.set_costs([1], [1], [1.0]) == 0
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_spliced_path_is_the_path_extracted_anew(seed: int) -> None:
+    rng = np.random.default_rng(300 + seed)
+    h, w = 40, 60
+    occ = rng.random((h, w)) < 0.08
+    start, goal = (2, 2), (h - 3, w - 3)
+
+    def costs(o: np.ndarray) -> np.ndarray:
+        c = clearance_costs(obstacle_distance(o, 5.0), 1.5, 2.5, 50.0, 4.0)
+        c[start] = c[goal] = 1.0
+        return c
+
+    cost = costs(occ)
+    repair = PathRepair(cost, start, goal)
+    descents: list[int] = []
+    descend = repair.search.descend
+
+    def spy(*args: Any, **kwargs: Any) -> list[int]:
+        out = descend(*args, **kwargs)
+        descents.append(len(out))
+        return out
+
+    repair.search.descend = spy  # type: ignore[method-assign]
+    checked = spliced = 0
+    for _ in range(40):
+        cells = repair.cells
+        if len(cells) > 2:  # along the path, or beside it
+            start = cells[2] if rng.random() < 0.8 else (min(cells[2][0] + 1, h - 1), cells[2][1])
+        new_occ = occ.copy()
+        r, c = start
+        for _ in range(int(rng.integers(0, 4))):  # cells near the robot flip, as sonars make them
+            new_occ[int(np.clip(r + rng.integers(-8, 9), 0, h - 1)),
+                    int(np.clip(c + rng.integers(-8, 9), 0, w - 1))] ^= True
+        new_occ[start] = new_occ[goal] = False
+        new = costs(new_occ)
+        rr, cc = np.nonzero(new != cost)
+        occ, cost = new_occ, new
+        version, descents[:] = repair.version, []
+        repair.cycle(start, rr, cc, cost[rr, cc])
+        if repair.version == version:
+            continue
+        descended = descents[-1]
+        assert repair.full_path == repair.search.path()  # the whole path, cell for cell
+        checked += 1
+        spliced += descended < len(repair.full_path)
+    assert checked >= 10 and spliced >= 5
+
+
+def test_map_changes_patch_distances_equal_a_distance_transform() -> None:
+    robot = default_robot()
+    planner = DStarLite()
+    obs = Observation(t=0.0, pose=np.array([3.0, 3.0, 0.0]), goal=np.array([5.0, 3.0]),
+                      ranges=np.full(6, 3.0), robot=robot, bounds=(0.0, 0.0, 6.0, 6.0), dt=0.1)
+    planner.reset(obs, np.random.default_rng(0))
+
+    class Frame:
+        values_now = np.full(planner.shape, 50, dtype=np.uint8)
+
+        def values(self, copy: bool = True) -> np.ndarray:
+            return self.values_now
+
+    frame = Frame()
+    planner.grid = frame
+    rng = np.random.default_rng(5)
+    robot_rc = (30, 30)
+    before = planner.cost.copy()
+    for step in range(12):
+        cells = rng.integers(0, 60, (int(rng.integers(1, 6)), 2))
+        frame.values_now = frame.values_now.copy()
+        frame.values_now[cells[:, 0], cells[:, 1]] = 0 if step % 4 == 3 else 100  # freed, or new
+        rows, cols, vals = planner._map_changes(robot_rc)
+        expected = obstacle_distance(planner.occupied, planner.cap)
+        np.testing.assert_array_equal(planner.dist, expected)  # exactly, patch or transform
+        cost = clearance_costs(expected, planner.inscribed, planner.margin_cells, 1000.0, 5.0)
+        np.testing.assert_array_equal(planner.cost, cost)
+        rr, cc = np.nonzero(cost != before)
+        assert sorted(zip(rows.tolist(), cols.tolist(), strict=True)) == sorted(zip(rr.tolist(), cc.tolist(), strict=True))
+        np.testing.assert_array_equal(vals, cost[rows, cols])
+        before = cost
+    assert not planner.occupied[planner.goal_rc]
 
 
 # --------------------------------------------------------------------------- follower

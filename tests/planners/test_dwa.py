@@ -1,7 +1,9 @@
 """DWA and DWA under a D* Lite path: roll-outs, admissible velocities, the dynamic window, and
-driving (stops before a wall, passes a 1 m door, goes round a wall with the global path).
+driving (stops before a wall, passes a 1 m door, goes round a wall with the global path); the
+issue-16 decision (anchor bounds, exact distances where they cannot decide) against the
+straightforward one it replaced, to the bit.
 
-Runtime: ~10 s.
+Runtime: ~15 s.
 """
 
 from __future__ import annotations
@@ -11,12 +13,17 @@ import math
 import numpy as np
 import pytest
 
+import nav_bench.planners.dwa as dwa_module
 from nav_bench.planners.dwa import (
     DWA,
+    Choice,
     DWAGlobal,
+    anchor_columns,
     arc_clearances,
     choose_velocity,
     edge_clearance,
+    linspace,
+    nearest_distances,
     rollout,
 )
 from nav_bench.testing.harness import BoxWorld, run, wall_world
@@ -118,3 +125,156 @@ def test_use_grid_adds_the_occupied_cells_as_obstacles() -> None:
     assert (pmo[:, 39:41] > 65).any()  # the end wall at x = 4 m is in the grid
     obs_pts = len(gridded.planner.memory)
     assert obs_pts > 0 and gridded.collisions == plain.collisions == 0
+
+
+# ----------------------------------------------------------------------------- issue 16
+def reference_choose_velocity(pose, goal, v_now, omega_now, points, radius, dt, p, v_max, omega_max,
+                              v_cap=math.inf) -> Choice:
+    """choose_velocity before issue 16, verbatim: every sample rolled out (rollout) and every
+    pose's clearance from the k-d tree (arc_clearances). The reference of the fast one."""
+    v_lo, v_hi = max(0.0, v_now - p.acc_v * dt), min(v_max, v_now + p.acc_v * dt)
+    if v_lo > v_hi:
+        v_lo = v_hi = max(0.0, min(v_max, v_now - p.acc_v * dt))
+    w_lo = max(-omega_max, omega_now - p.acc_omega * dt)
+    w_hi = min(omega_max, omega_now + p.acc_omega * dt)
+    if w_lo > w_hi:
+        w_lo = w_hi = min(omega_max, max(-omega_max, omega_now))
+    vs = np.linspace(v_lo, v_hi, p.v_samples)
+    ws = np.linspace(w_lo, w_hi, p.omega_samples)
+    if w_lo < 0.0 < w_hi:
+        ws = np.unique(np.append(ws, 0.0))
+    vv, ww = (a.ravel() for a in np.meshgrid(vs, ws, indexing="ij"))
+    steps = max(1, round(p.sim_time / p.sim_step))
+    arcs = rollout(pose, vv, ww, steps, p.sim_step)
+    clear = arc_clearances(arcs, points, radius)
+    now = edge_clearance(np.asarray(pose[:2], dtype=float), points, radius)
+    hit = clear < min(p.min_clearance, now - 1e-6)
+    first = np.where(hit.any(axis=1), hit.argmax(axis=1), steps)
+    dist = np.where(first < steps, vv * p.sim_step * first, math.inf)
+    admissible = (vv * dt + vv * vv / (2.0 * p.acc_v) <= dist + 1e-12) | (vv <= 1e-9)
+    admissible &= vv <= v_cap + 1e-9
+    end = arcs[:, -1, :]
+    bearing = np.arctan2(goal[1] - end[:, 1], goal[0] - end[:, 0])
+    err = np.abs(np.remainder(bearing - end[:, 2] + math.pi, 2 * math.pi) - math.pi)
+    heading = 1.0 - err / math.pi
+    cap = p.clearance_cap
+    clearance = np.clip(clear.min(axis=1), 0.0, cap) / cap
+    velocity = vv / max(v_max, 1e-9)
+    score = p.k_heading * heading + p.k_clearance * clearance + p.k_velocity * velocity
+    moving = admissible & (vv > 1e-9)
+    if not admissible.any():
+        score = np.where(vv <= vv.min() + 1e-12, clear.min(axis=1), -math.inf)
+    else:
+        score = np.where(moving if moving.any() else admissible, score, -math.inf)
+    best = int(np.argmax(score))
+    return Choice(float(vv[best]), float(ww[best]), float(score[best]), int(np.count_nonzero(moving)))
+
+
+def test_linspace_is_numpys_to_the_bit() -> None:
+    rng = np.random.default_rng(0)
+    cases = [(0.0, 0.1, 7), (0.45, 0.5, 7), (-1.0, -0.4, 15), (0.3, 0.3, 7), (-0.3, 0.3, 15),
+             (1e-17, 0.1, 7), (0.0, 0.0, 2)]
+    cases += [(float(a), float(a + b), int(k)) for a, b, k in
+              zip(rng.uniform(-2, 2, 200), rng.uniform(0, 1, 200), rng.integers(2, 30, 200), strict=True)]
+    for start, stop, num in cases:
+        assert linspace(start, stop, num) == np.linspace(start, stop, num).tolist()
+
+
+def test_nearest_distances_are_the_k_d_trees_to_the_bit() -> None:
+    rng = np.random.default_rng(1)
+    for _ in range(30):
+        q = rng.uniform(-20.0, 20.0, (int(rng.integers(1, 300)), 2))
+        points = q[0] + rng.uniform(-2.0, 2.0, (int(rng.integers(1, 200)), 2))
+        expected = arc_clearances(np.c_[q, np.zeros(len(q))][:, None, :], points, 0.0)[:, 0]
+        np.testing.assert_array_equal(nearest_distances(q, points), expected)
+    # what it computes: the distance to the nearest point, e.g. 5 (3-4-5) and 1
+    np.testing.assert_array_equal(nearest_distances(np.array([[0.0, 0.0], [3.0, 5.0]]),
+                                                    np.array([[3.0, 4.0], [6.0, 8.0]])), [5.0, 1.0])
+
+
+def test_the_anchor_margin_bounds_how_far_a_pose_moves_with_v_and_omega() -> None:
+    # the pose after t of (v, omega) is within |v - v_a| t + v_a |omega - omega_a| t^2 / 2 of the
+    # pose of (v_a, omega_a): v = 0.5 straight ends at (0.5, 0); with omega = 1 at
+    # 0.5 (sin 1, 1 - cos 1) = (0.42074, 0.22985), 0.24313 m away, within 0.5 * 1 * 1 / 2 = 0.25
+    arcs = rollout(np.zeros(3), np.array([0.5, 0.5]), np.array([0.0, 1.0]), 1, 1.0)
+    np.testing.assert_allclose(arcs[1, 0, :2], [0.5 * math.sin(1.0), 0.5 * (1 - math.cos(1.0))], atol=1e-15)
+    gap = float(np.hypot(*(arcs[0, 0, :2] - arcs[1, 0, :2])))
+    assert gap == pytest.approx(0.24313, abs=1e-5) and gap <= 0.25
+    rng = np.random.default_rng(3)
+    pose = np.array([3.0, -2.0, 0.7])
+    v, w = rng.uniform(0.0, 0.6, 2000), rng.uniform(-1.2, 1.2, 2000)
+    va, wa = rng.uniform(0.0, 0.6, 2000), rng.uniform(-1.2, 1.2, 2000)
+    t = np.arange(1, 11) * 0.1
+    gap = np.hypot(*(rollout(pose, v, w, 10, 0.1) - rollout(pose, va, wa, 10, 0.1))[:, :, :2].transpose(2, 0, 1))
+    bound = np.abs(v - va)[:, None] * t + (va * np.abs(w - wa))[:, None] * t * t / 2
+    assert (gap <= bound + 1e-12).all() and (gap / bound).max() > 0.95  # tight at times
+
+
+def test_anchor_columns_every_third_turn_rate_and_the_last() -> None:
+    cols, of = anchor_columns(16)  # 15 samples and the inserted omega = 0
+    assert cols.tolist() == [0, 3, 6, 9, 12, 15]
+    assert cols[of].tolist() == [0, 0, 3, 3, 3, 6, 6, 6, 9, 9, 9, 12, 12, 12, 15, 15]
+    assert anchor_columns(15)[0].tolist() == [0, 3, 6, 9, 12, 14]
+
+
+def scene(rng: np.random.Generator, kind: str) -> tuple:
+    """A random DWA decision: pose, goal, v_now, omega_now, points, v_cap."""
+    pose = np.array([*rng.uniform(-20.0, 20.0, 2), rng.uniform(-math.pi, math.pi)])
+    goal = pose[:2] + rng.uniform(-5.0, 5.0, 2)
+    v_now, omega_now = float(rng.choice([0.0, rng.uniform(0, 0.5), 0.5])), float(rng.uniform(-1, 1))
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    if kind == "none":
+        points = np.zeros((0, 2))
+    elif kind == "wall":  # a wall across the heading 0.3..1.5 m ahead, echo points along it
+        d, k = rng.uniform(0.3, 1.5), int(rng.integers(5, 120))
+        lat = rng.uniform(-2.0, 2.0, k)
+        points = pose[:2] + np.c_[d * c - lat * s, d * s + lat * c] + rng.normal(0, 0.01, (k, 2))
+    elif kind == "close":  # the robot (radius 0.2) already within min_clearance, or overlapping
+        k = int(rng.integers(1, 60))
+        ang, rad = rng.uniform(-math.pi, math.pi, k), rng.uniform(0.15, 1.7, k)
+        points = pose[:2] + np.c_[rad * np.cos(ang), rad * np.sin(ang)]
+    else:  # clutter: points all round within 1.7 m
+        k = int(rng.integers(1, 250))
+        ang, rad = rng.uniform(-math.pi, math.pi, k), rng.uniform(0.22, 1.7, k)
+        points = pose[:2] + np.c_[rad * np.cos(ang), rad * np.sin(ang)]
+    v_cap = float(rng.choice([math.inf, rng.uniform(0.05, 0.5)]))
+    return pose, goal, v_now, omega_now, points, v_cap
+
+
+@pytest.mark.parametrize("kind", ["clutter", "wall", "close", "none"])
+def test_the_decision_is_the_reference_decision_to_the_bit(kind: str) -> None:
+    rng = np.random.default_rng(["clutter", "wall", "close", "none"].index(kind))
+    settings = [P, DWA(omega_samples=4, v_samples=3).settings, DWA(sim_time=2.0, acc_omega=0.5).settings,
+                DWA(k_clearance=0.0).settings, DWA(min_clearance=0.0).settings]
+    braking = 0
+    for i in range(400):
+        pose, goal, v_now, omega_now, points, v_cap = scene(rng, kind)
+        p = settings[i % len(settings)]
+        v_max = 0.3 if i % 7 == 0 else 0.5  # below v_now: the brake window
+        args = (pose, goal, v_now, omega_now, points, 0.2, 0.1, p, v_max, 1.0)
+        got, want = choose_velocity(*args, v_cap=v_cap), reference_choose_velocity(*args, v_cap=v_cap)
+        assert got == want, (i, got, want)
+        braking += want.admissible == 0 and want.v > 0
+    if kind in ("wall", "close"):
+        assert braking > 0  # the no-admissible branch was met
+
+
+def test_the_decision_computes_few_exact_distances() -> None:
+    # a wall 1 m ahead at full speed: 7 x 16 samples x 10 poses = 1,120 poses, 41 points (45,920
+    # pairs before issue 16); exact distances for the 6 anchor turn rates of the middle speed
+    # (60 poses x 41 points), no collision the bounds leave open (none is possible), and the
+    # 7 arcs that can win (70 poses) against the 7 points that can be nearest to them: 2,950
+    wall = np.stack([np.full(41, 1.0), np.linspace(-2.0, 2.0, 41)], axis=1)
+    pairs: list[tuple[int, int]] = []
+
+    def counting(q: np.ndarray, points: np.ndarray) -> np.ndarray:
+        pairs.append((len(q), len(points)))
+        return nearest_distances(q, points)
+
+    args = (np.zeros(3), np.array([5.0, 0.3]), 0.5, 0.0, wall, 0.2, 0.1, P, 0.5, 1.0)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(dwa_module, "nearest_distances", counting)
+        got = choose_velocity(*args)
+    assert got == reference_choose_velocity(*args)
+    assert (got.v, got.admissible) == (0.5, 105) and got.omega == pytest.approx(0.6 / 14)
+    assert pairs == [(60, 41), (70, 7)]

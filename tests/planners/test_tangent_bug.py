@@ -1,18 +1,33 @@
-"""TangentBug: its local range function, and the harness worlds (wall, U).
+"""TangentBug: its local range function, and the harness worlds (wall, U); the binned range
+function and the echo memory against their plain forms, and recorded episodes of TangentBug,
+Bug2 and DWA replayed against the commands of the code before issue 16's speed-ups.
 
-Runtime: ~1 s.
+Runtime: ~3 s (the replays: 2,763 cycles).
 """
 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+from nav_bench.interface import Observation, RobotInfo, SonarInfo
+from nav_bench.planners.base import Planner
 from nav_bench.planners.bug2 import Bug2
-from nav_bench.planners.tangent_bug import TangentBug, blocked_interval_edges, range_function
-from nav_bench.testing.harness import run, u_world, wall_world
+from nav_bench.planners.dwa import DWA
+from nav_bench.planners.follow import EchoMemory, world_echoes
+from nav_bench.planners.tangent_bug import (
+    TangentBug,
+    binned_range_function,
+    blocked_interval_edges,
+    range_bins,
+    range_function,
+)
+from nav_bench.testing.harness import default_robot, run, u_world, wall_world
+
+REPLAY = Path(__file__).resolve().parents[1] / "data" / "planner_replay"
 
 
 def test_range_function_grows_each_echo_by_the_clearance_radius() -> None:
@@ -66,3 +81,107 @@ def test_stops_following_when_the_goal_is_reachable() -> None:
     rel = tail - tail[0]
     lateral = np.abs(rel[:, 0] * direction[1] - rel[:, 1] * direction[0])
     assert lateral.max() < 0.1
+
+
+# ----------------------------------------------------------------------------- issue 16: cost
+def test_binned_range_function_equals_the_full_one_bit_for_bit() -> None:
+    rng = np.random.default_rng(3)
+    for n in (8, 13, 120, 360):
+        bins = range_bins(n)
+        for n_pts in (0, 1, 7, 300):
+            xy = rng.uniform(-20.0, 20.0, size=2)
+            pts = rng.uniform(-3.0, 3.0, size=(n_pts, 2))
+            pts[: n_pts // 4] *= 1e-3  # 1 mm to 4 mm away: each blocks half the circle
+            # bearings on the bins and across the -pi/pi cut, where the remainder wraps
+            b = np.concatenate([bins[rng.integers(0, n, n_pts // 4)],
+                                math.pi + rng.normal(0, 1e-3, n_pts // 4)])
+            pts[n_pts // 4: n_pts // 4 + len(b)] = rng.uniform(0.1, 3.0, (len(b), 1)) * np.stack(
+                [np.cos(b), np.sin(b)], axis=1)
+            for grow in (0.0, 0.28, 0.33, 0.5):
+                full = range_function(pts + xy, xy, grow, bins)
+                np.testing.assert_array_equal(binned_range_function(pts + xy, xy, grow, bins), full)
+    # a point exactly behind (bearing pi), one just past the cut, one whose disc ends on a bin
+    bins = range_bins(120)
+    pts = np.array([[-2.0, 0.0], [-2.0, -1e-12], [0.5, 0.28], [1.0, 0.0]])
+    for grow in (0.28, math.sin(2 * math.pi / 120)):
+        np.testing.assert_array_equal(binned_range_function(pts, np.zeros(2), grow, bins),
+                                      range_function(pts, np.zeros(2), grow, bins))
+
+
+class PlainEchoMemory:
+    """EchoMemory as it was before issue 16: concatenate, mask by time, keep the last capacity."""
+
+    def __init__(self, horizon: float, capacity: int = 4000) -> None:
+        self.horizon, self.capacity = horizon, capacity
+        self.xy, self.t = np.zeros((0, 2)), np.zeros(0)
+
+    def add(self, obs: Observation) -> None:
+        pts = world_echoes(obs)
+        xy = np.concatenate([self.xy, pts])
+        t = np.concatenate([self.t, np.full(len(pts), obs.t)])
+        keep = t >= obs.t - self.horizon
+        self.xy, self.t = xy[keep][-self.capacity:], t[keep][-self.capacity:]
+
+
+@pytest.mark.parametrize(("horizon", "capacity"), [(8.0, 4000), (1.0, 4000), (0.0, 4000), (math.inf, 4000),
+                                                   (2.0, 7), (2.0, 3), (2.0, 0), (-1.0, 4000)])
+def test_echo_memory_keeps_the_points_the_plain_one_keeps(horizon: float, capacity: int) -> None:
+    """Same points in the same order after every cycle, also when time stands still, goes back
+    (the memory is rebuilt) or the capacity is below a cycle's echoes."""
+    robot = default_robot()
+    rng = np.random.default_rng(7)
+    memory, plain = EchoMemory(horizon, capacity), PlainEchoMemory(horizon, capacity)
+    t = 0.0
+    for i in range(400):
+        t = t - 1.5 if i % 97 == 50 else (t if i % 31 == 0 else t + 0.1)
+        ranges = np.where(rng.random(6) < 0.3, robot.sonar.max_range, rng.uniform(0.05, 3.0, 6))
+        obs = Observation(t=t, pose=rng.uniform(-3.0, 3.0, 3), goal=np.zeros(2), ranges=ranges, robot=robot,
+                          bounds=(-5.0, -5.0, 5.0, 5.0), dt=0.1)
+        memory.add(obs)
+        plain.add(obs)
+        assert len(memory) == len(plain.xy)
+        np.testing.assert_array_equal(memory.points(), plain.xy)
+        c = rng.uniform(-3.0, 3.0, 2)
+        near = np.hypot(plain.xy[:, 0] - c[0], plain.xy[:, 1] - c[1]) <= 2.0
+        np.testing.assert_array_equal(memory.points(c, 2.0), plain.xy[near])
+
+
+def replay_commands(name: str, planner: Planner) -> tuple[np.ndarray, np.ndarray]:
+    """Feed the observations recorded in ``tests/data/planner_replay/<name>.npz`` to
+    ``planner``; its commands (N, 2) and the recorded ones. The files are real PyBullet
+    episodes (seed 0) played with main's code at f4bd289, before issue 16's TangentBug
+    speed-ups, written by ``benchmarks/bench_tangent_bug.py --record``; the very-complex one was
+    recorded again after the lap rule changed (a lap needs a net turn, merge 2a41606), which
+    changed when its unreachable ending comes."""
+    with np.load(REPLAY / f"{name}.npz") as stored:
+        rec = {key: stored[key] for key in stored.files}  # read once: an NpzFile inflates per access
+    sonar = SonarInfo(angles=rec["sonar_angles"], offsets=rec["sonar_offsets"], cone=float(rec["sonar_cone"]),
+                      min_range=float(rec["sonar_min_range"]), max_range=float(rec["sonar_max_range"]))
+    robot = RobotInfo(radius=float(rec["robot_radius"]), wheel_base=float(rec["wheel_base"]),
+                      v_max=float(rec["v_max"]), omega_max=float(rec["omega_max"]), sonar=sonar)
+    bounds = tuple(float(b) for b in rec["bounds"])
+    cmds = []
+    for i in range(len(rec["t"])):
+        obs = Observation(t=float(rec["t"][i]), pose=rec["pose"][i].copy(), goal=rec["goal"][i].copy(),
+                          ranges=rec["ranges"][i].copy(), robot=robot, bounds=bounds, dt=float(rec["dt"]))
+        if i == 0:
+            planner.reset(obs, np.random.default_rng(0))
+        cmd = planner.act(obs)
+        cmds.append([cmd.v, cmd.omega])
+    return np.asarray(cmds), rec["cmd"]
+
+
+@pytest.mark.parametrize("name", ["tangent_bug_clutter_40m_60s", "tangent_bug_concave_trap_60s",
+                                  "tangent_bug_labyrinth_60s", "tangent_bug_very_complex_60s",
+                                  "bug2_very_complex_40s", "dwa_clutter_40m_20s"])
+def test_replayed_episode_gives_the_recorded_commands_bit_for_bit(name: str) -> None:
+    """The per-cycle polar view, the binned range function, no endpoints while following and
+    the buffered echo memory change no command (==) of a recorded episode: TangentBug's cover
+    motion to goal with the goal blocked (84 cycles of the binned range function), boundary
+    following (37 switches to it) and back, and the unreachable ending, with memories of up to 486
+    echoes; Bug2 and DWA share the echo memory."""
+    kind = next(k for k in ("tangent_bug", "bug2", "dwa") if name.startswith(k))
+    planner = {"tangent_bug": TangentBug, "bug2": Bug2, "dwa": DWA}[kind]()
+    got, want = replay_commands(name, planner)
+    assert got.shape == want.shape
+    np.testing.assert_array_equal(got, want)

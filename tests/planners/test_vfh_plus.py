@@ -54,6 +54,35 @@ def test_polar_histogram_of_two_cells_by_hand() -> None:
     assert m1 == pytest.approx(1629.0) and m2 == pytest.approx(92.16)
 
 
+def dense_polar_histogram(cells_xy: np.ndarray, certainty: np.ndarray, xy: np.ndarray, n: int,
+                          r_rs: float, d_max: float, b: float) -> np.ndarray:
+    """H^p testing every cell against every sector (the formulation before issue 16)."""
+    d = cells_xy - xy
+    dist = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)
+    beta = np.arctan2(d[:, 1], d[:, 0])
+    mag = certainty.astype(float) ** 2 * (1.0 + b * (d_max ** 2 - dist ** 2))
+    gamma = np.arcsin(np.minimum(1.0, r_rs / dist))
+    centres = np.arange(n) * (2 * math.pi / n)
+    diff = np.abs(np.remainder(centres[:, None] - beta[None, :] + math.pi, 2 * math.pi) - math.pi)
+    return np.where(diff <= gamma[None, :], mag[None, :], 0.0).sum(axis=1)
+
+
+@pytest.mark.parametrize("n", [4, 36, 72, 360])
+def test_polar_histogram_equals_every_sector_tested_bit_for_bit(n: int) -> None:
+    # cells at every bearing (also on sector centres and at +-pi), from inside r_rs to the window's
+    # edge: only the sectors near each cell are tested, with the same arithmetic and sums
+    rng = np.random.default_rng(7)
+    xy = np.array([2.03, 1.97])
+    for size in (1, 7, 8, 9, 150, 400):
+        angle = rng.uniform(-math.pi, math.pi, size)
+        angle[: size // 3] = rng.integers(0, n, size // 3) * (2 * math.pi / n)
+        dist = rng.uniform(0.05, 1.6, size)
+        cells = xy + dist[:, None] * np.stack([np.cos(angle), np.sin(angle)], axis=1)
+        cert = rng.uniform(0.0, 15.0, size)
+        np.testing.assert_array_equal(polar_histogram(cells, cert, xy, n, 0.23, 1.6, 4.0),
+                                      dense_polar_histogram(cells, cert, xy, n, 0.23, 1.6, 4.0))
+
+
 def test_binary_histogram_hysteresis() -> None:
     prev = np.array([False, True, False, True])
     h = binary_histogram(np.array([50.0, 50.0, 300.0, 5.0]), prev, low=20.0, high=100.0)
@@ -94,9 +123,63 @@ def test_valley_nearest_the_goal_direction_wins() -> None:
     assert candidate_directions(np.zeros(N, dtype=bool), 7.0, 16) == [7.0]
 
 
+def walked_valleys(masked: np.ndarray, k_target: float, s_max: int) -> list[float]:
+    """candidate_directions sector by sector (the formulation before issue 16)."""
+    n = len(masked)
+    if masked.all():
+        return []
+    if not masked.any():
+        return [float(k_target) % n]
+    start = int(np.flatnonzero(masked)[0])
+    out: list[float] = []
+    k = 0
+    while k < n:
+        if masked[(start + k) % n]:
+            k += 1
+            continue
+        run_start = k
+        while k < n and not masked[(start + k) % n]:
+            k += 1
+        k_r, width = start + run_start, k - run_start
+        if width <= s_max:
+            out.append((k_r + (width - 1) / 2) % n)
+        else:
+            c_r, c_l = k_r + s_max / 2, k_r + width - 1 - s_max / 2
+            out += [c_r % n, c_l % n]
+            t = (k_target - k_r) % n + k_r
+            if c_r <= t <= c_l:
+                out.append(t % n)
+    return out
+
+
+def test_valleys_equal_a_sector_by_sector_walk() -> None:
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        masked = rng.random(N) < rng.uniform(0.0, 1.0)
+        k_target = float(rng.uniform(0.0, N))
+        assert candidate_directions(masked, k_target, 16) == walked_valleys(masked, k_target, 16)
+
+
 def test_certainty_reads_only_evidence_of_occupancy() -> None:
     values = np.array([[0, 50, 75, 100]], dtype=np.uint8)
     np.testing.assert_allclose(certainty_from_occupancy(values, 15.0), [[0.0, 0.0, 7.5, 15.0]])
+
+
+def test_active_window_is_the_whole_maps_cells_within_the_radius() -> None:
+    # the window's square only, cells above 50 only: the same cells, order and numbers as
+    # reading every cell of the map, also where the window leaves the grid
+    rng = np.random.default_rng(3)
+    frame = GridFrame.from_bounds((0.0, 0.0, 6.0, 5.0), 0.1)
+    values = rng.integers(0, 101, frame.shape).astype(np.uint8)
+    rows, cols = np.mgrid[0:frame.rows, 0:frame.cols]
+    centres = frame.cell_center(rows, cols).reshape(-1, 2)
+    cert = certainty_from_occupancy(values, 15.0).reshape(-1)
+    for xy in ([3.02, 2.51], [0.04, 4.97], [5.9, 0.3], [-0.5, 2.0]):
+        xy = np.array(xy)
+        near = (np.hypot(*(centres - xy).T) <= 1.6) & (cert > 0)
+        cells, got = active_cells(values, frame, xy, 1.6, 15.0)
+        np.testing.assert_array_equal(cells, centres[near])
+        np.testing.assert_array_equal(got, cert[near])
 
 
 def test_histogram_from_a_hand_built_shared_grid() -> None:

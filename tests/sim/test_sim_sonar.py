@@ -133,3 +133,22 @@ def test_sonar_mounts_are_read_from_the_urdf(session, exact_robot):
     assert np.arctan2(info.offsets[:, 1], info.offsets[:, 0]) == pytest.approx(info.angles, abs=1e-6)
     assert info.cone == pytest.approx(math.radians(25.0))
     assert (info.min_range, info.max_range) == (0.05, 3.0)
+
+
+def test_last_rays_end_on_the_wall_they_hit_and_at_max_range_otherwise(session, exact_robot):
+    # Sonar 3 looks along +x (robot yaw -15 deg) at a wall 1.0 m ahead; sonar 0 (-90 deg from
+    # the heading) looks into 10 m of empty floor.
+    face_x = 2.0 + BODY_RADIUS + 1.0
+    world = make_world(start=(2.0, 5.0, -MOUNT_DEG[3]), obstacles=[wall_facing(face_x)])
+    sim = make_sim(session, world, exact_robot)
+    assert sim.sonar.last_rays() is None
+    sim.sense()
+    rays = sim.sonar.last_rays()
+    per_cone = exact_robot.sonar.rays
+    wall = slice(3 * per_cone, 4 * per_cone)
+    assert rays.hit[wall].all()
+    assert rays.ends[wall, 0] == pytest.approx(np.full(per_cone, face_x), abs=1e-6)
+    empty = slice(0, per_cone)
+    assert not rays.hit[empty].any()
+    reach = np.hypot(*(rays.ends[empty, :2] - rays.starts[empty, :2]).T)
+    assert reach == pytest.approx(np.full(per_cone, exact_robot.sonar.max_range))
