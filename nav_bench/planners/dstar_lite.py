@@ -7,14 +7,16 @@ the basic version's full ``rhs`` recomputation for vertices whose edges changed)
 The map: an :class:`~nav_bench.mapping.occupancy.OccupancyGrid` updated from the sonars
 every cycle. Under the *freespace assumption* unknown cells are free; a cell whose value is
 above ``occupied_above`` is an obstacle. Cell costs (:func:`clearance_costs`, ROS costmap
-style): obstacle cells are lethal (``inf``); cells within the robot radius of one (inscribed:
-the body would overlap it) cost ``inflated_cost`` per step, finite so that a robot whose
-surroundings a sonar arc painted over can still drive out; beyond that the cost falls
-quadratically from ``clearance_cost`` to 1 at ``radius + inflation_margin``, so paths run down
-the middle of 1 m corridors and doors. Distances come from a Euclidean distance transform
-recomputed only in a window around the cells whose occupancy flipped (and only the window the
-sonars can reach is compared each cycle). The goal's cell is never lethal (an echo arc over
-the goal would otherwise make it unreachable for good).
+style, from the distances between cell centres, :func:`obstacle_distance`): obstacle cells
+are lethal (``inf``); cells within ``radius + passage_margin`` of one (inscribed) cost
+``inflated_cost`` per step, finite so that a robot whose surroundings a sonar arc painted over can still drive out; beyond that
+the cost falls from ``clearance_cost`` to 1 at ``radius + passage_margin + inflation_margin``
+as the 4th power of the margin left, so paths run down the middle of 1 m corridors and doors
+and take a gap a few cm wider than the robot only when going round costs more. Distances come
+from a Euclidean distance transform recomputed only in a window around the cells whose
+occupancy flipped (and only the window the sonars can reach is compared each cycle). The
+goal's cell is never lethal (an echo arc over the goal would otherwise make it unreachable for
+good).
 
 The graph: 8-connected cells; moving from ``u`` to a neighbour ``v`` costs the step length
 (1 or sqrt 2 cells) times the cost of ``v``; a diagonal step is forbidden when either cell it
@@ -46,10 +48,16 @@ patch of precomputed distances per new obstacle cell (a distance transform where
 
 The follower: pure pursuit on the path (``lookahead``), turning on the spot when the lookahead
 point is more than ``turn_in_place_deg`` off the heading; in the goal's cell or next to it,
-straight for the goal. Every command is checked by :func:`~nav_bench.planners.footprint.guard`
-(the footprint's rollout over ``safety_horizon_s`` against the obstacle distances and the sonar
-echoes, slowing within ``slow_distance``). No progress for ``recovery_after_s`` (odometry and
-sonar evidence, :mod:`~nav_bench.planners.recovery`) starts the recovery: back up, rotate in
+straight for the goal. Every command is checked by :func:`~nav_bench.planners.footprint.guard`:
+the footprint's rollout over ``safety_horizon_s`` against the parts of the occupied cells near
+the robot that the sonars have not seen through (each cell as 5 x 5 small squares, carved by
+the readings of the last ``CARVE_MEMORY_S``: the grid stands up to a cell proud of surfaces
+and narrows 0.55-0.6 m gaps below the robot's width) and against the sonar echoes; it keeps
+``cruise_margin`` at ``v_max`` and ``squeeze_margin`` at ``squeeze_speed``, slows within
+``slow_distance``, slides along a corner on another arc or turns to a heading it can leave it
+by, and stops before it turns on the spot. No progress for ``recovery_after_s`` (odometry and
+sonar evidence, a slow straight creep counting, :mod:`~nav_bench.planners.recovery`) starts
+the recovery: back up (not into the map's obstacles), rotate in
 place, re-plan from scratch (``recovery`` events with their ``phase``); no path starts a rotate
 and, if there is still none, clears the map (at most ``no_path_recoveries`` times); after that:
 stop and emit ``unreachable`` (once per loss). :meth:`DStarLite.stuck_reason` says why.
@@ -69,16 +77,30 @@ import numpy as np
 from scipy import ndimage
 
 from nav_bench.errors import InputError
-from nav_bench.interface import Command, GridState, Observation, StuckReason
+from nav_bench.interface import Command, GridState, Observation, StuckReason, wrap_angle
 from nav_bench.mapping.occupancy import SONAR_MODELS, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import STOP, arrival_speed, pure_pursuit, steer
-from nav_bench.planners.footprint import Guarded, GuardSettings, guard
+from nav_bench.planners.footprint import (
+    CARVE_SUB,
+    Guarded,
+    GuardSettings,
+    PointObstacles,
+    SquareClearance,
+    cell_parts,
+    guard,
+    seen_through,
+)
 from nav_bench.planners.recovery import ProgressWatch, Recovery, RecoveryPhase, RecoverySettings
 
 INF = math.inf
 SQRT2 = math.sqrt(2.0)
 PATH_PREFIX = 160  # cells of the path extracted at a time (16..23 m; the follower looks 0.5 m ahead)
+FLOOR_MARGIN = 0.01  # m: the least gap to the map's obstacles a robot inside its margin may dip to
+VIEW_MOVE_M, VIEW_TURN_RAD = 0.03, math.radians(5.0)  # a new view for carving: moved or turned this much
+ESCAPE_S = 4.0  # s: the longest the follower holds a way out of its margin
+CARVE_MEMORY_S = 3.0  # s: parts of occupied cells the sonars saw through this recently do not hold the follower
+CLEARANCE_POWER = 4  # the clearance cost falls as this power of the fraction of the margin left
 # (drow, dcol, step length in cells); fixed order makes tie-breaking deterministic
 MOVES: tuple[tuple[int, int, float], ...] = (
     (0, 1, 1.0), (1, 0, 1.0), (0, -1, 1.0), (-1, 0, 1.0),
@@ -114,18 +136,22 @@ def obstacle_distance(occupied: np.ndarray, cap: float) -> np.ndarray:
 
 def clearance_costs(dist: np.ndarray, inscribed: float, margin: float, inscribed_cost: float,
                     clearance_cost: float) -> np.ndarray:
-    """(H, W) step-cost multipliers from obstacle distances ``dist`` (cells), ROS costmap style.
+    """(H, W) step-cost multipliers from obstacle distances ``dist`` (cells, between cell
+    centres: :func:`obstacle_distance`), ROS costmap style.
 
     ``inf`` on occupied cells (``dist == 0``); ``inscribed_cost`` within ``inscribed`` cells
-    (the robot's radius: its body would overlap the obstacle there); beyond it the cost falls
-    quadratically from ``clearance_cost`` to 1 at ``inscribed + margin`` cells, and is 1 farther
-    out. Costs are rounded to 1/64 so that equal distances give exactly equal costs.
+    (the robot's radius and a little: the body would overlap an occupied cell however it stood
+    in the cell); beyond it the cost falls from ``clearance_cost`` to
+    1 at ``inscribed + margin`` cells as the fourth power of the remaining fraction
+    (``CLEARANCE_POWER``), and is 1 farther out: steep near the obstacles, so that a gap a few
+    cm wider than the robot costs as much as a detour of a few metres, nearly flat in the middle
+    of a corridor. Costs are rounded to 1/64 so that equal distances give exactly equal costs.
     """
     d = np.asarray(dist, dtype=float)
     outer = inscribed + margin
     frac = np.clip((outer - d) / max(margin, 1e-9), 0.0, 1.0)
-    cost = np.round((1.0 + (clearance_cost - 1.0) * frac ** 2) * 64.0) / 64.0
-    cost[d <= inscribed] = float(inscribed_cost)
+    cost = np.round((1.0 + (clearance_cost - 1.0) * frac ** CLEARANCE_POWER) * 64.0) / 64.0
+    cost[d <= inscribed + 1e-9] = float(inscribed_cost)  # 1e-9: (0.18 + 0.02) / 0.1 < 2 in floats
     cost[d <= 0.0] = INF
     return cost
 
@@ -907,13 +933,13 @@ class DStarLite(Planner):
               "'elfes' weighs by angle and shares the echo over its arc; 'band' the whole arc (before issue 12)",
               choices=SONAR_MODELS),
         Param("inflation_margin", 0.35, "m",
-              "clearance beyond the robot radius over which the cell cost falls to 1", minimum=0.0),
+              "clearance beyond the inscribed one over which the cell cost falls to 1", minimum=0.0),
         # finite, not lethal: a sonar arc drawn over the robot's own surroundings must not cut
         # it off; 1000 makes the planner use such cells only when nothing else is free
-        Param("inflated_cost", 1000.0, "-", "step-cost factor of cells within the robot radius of an "
-              "obstacle (inscribed)", minimum=1.0),
-        Param("clearance_cost", 5.0, "-", "step-cost factor just beyond the robot radius, falling "
-              "quadratically to 1 at radius + inflation_margin", minimum=1.0),
+        Param("inflated_cost", 1000.0, "-", "step-cost factor of inscribed cells (within radius + "
+              "passage_margin of an occupied cell)", minimum=1.0),
+        Param("clearance_cost", 5.0, "-", "step-cost factor just beyond the inscribed clearance, falling "
+              "as the 4th power to 1 at radius + passage_margin + inflation_margin", minimum=1.0),
         Param("expansions_per_cycle", 250, "-", "D* Lite expansions per control cycle; an unfinished "
               "repair continues next cycle (0: unlimited)", minimum=0),
         Param("lookahead", 0.5, "m", "pure-pursuit lookahead distance along the path", minimum=0.05),
@@ -923,6 +949,15 @@ class DStarLite(Planner):
               "map this far ahead", minimum=0.1),
         Param("slow_distance", 0.1, "m", "slow down when the clearance ahead is less than this beyond "
               "the required one", minimum=0.0),
+        Param("squeeze_margin", 0.02, "m", "gap the follower keeps between the body and an occupied "
+              "cell (the square it covers) at squeeze speed", minimum=0.0),
+        Param("cruise_margin", 0.06, "m", "the same gap at cruise speed (v_max); it grows linearly "
+              "from squeeze_speed", minimum=0.0),
+        Param("squeeze_speed", 0.1, "m/s", "speed at which only squeeze_margin is kept; the follower "
+              "slides along a corner at this speed when the path's own curvature is not safe",
+              minimum=0.01),
+        Param("passage_margin", 0.02, "m", "a cell is inscribed (inflated_cost) within the robot radius "
+              "plus this of an occupied cell, centre to centre", minimum=0.0),
         Param("recovery_after_s", 6.0, "s", "start the recovery (back up, rotate, re-plan) after this "
               "long without progress (0: never)", minimum=0.0),
         Param("progress_m", 0.3, "m", "displacement or gain toward the goal that counts as progress",
@@ -939,8 +974,11 @@ class DStarLite(Planner):
         super().reset(obs, rng)
         self.reset_path(obs)
         p = self.settings
-        self.guard_settings = GuardSettings(required=self.required_clearance(obs),
-                                            horizon=p.safety_horizon_s, slow_distance=p.slow_distance)
+        v = min(p.v_max, obs.robot.v_max)
+        self.guard_settings = GuardSettings(
+            required=obs.robot.radius + p.squeeze_margin, horizon=p.safety_horizon_s,
+            slow_distance=p.slow_distance, cruise_extra=max(0.0, p.cruise_margin - p.squeeze_margin),
+            squeeze_speed=min(p.squeeze_speed, v), v_max=v, floor=obs.robot.radius + FLOOR_MARGIN)
         rs = RecoverySettings(after_s=p.recovery_after_s, progress_m=p.progress_m, backup_m=p.backup_m,
                               rotate_rad=math.radians(p.rotate_deg),
                               omega=min(1.0, 0.6 * obs.robot.omega_max))
@@ -950,11 +988,23 @@ class DStarLite(Planner):
         self.blocked = False  # the follower found no safe motion this cycle
         self.last_reason: StuckReason | None = None
         self.no_path_left = p.no_path_recoveries
+        parts = (*self.shape, CARVE_SUB * CARVE_SUB)
+        self._carved_t = np.full(parts, -INF, dtype=np.float32)  # when each part was last known free
+        self._seen_t = np.full(parts, -INF, dtype=np.float32)  # when a sonar last saw through it
+        self._seen_view = np.full(parts, -1, dtype=np.int32)  # from which view (see _local_clearance)
+        self._view, self._view_pose = 0, np.asarray(obs.pose, dtype=float).copy()
+        self._last_pose: np.ndarray | None = None
+        self._last_t = obs.t
+        self._speed = 0.0
+        self._escape: tuple[float, float] | None = None  # (world heading, since when) of a way out
+        self._near = self._squares
 
     def required_clearance(self, obs: Observation) -> float:
-        """The clearance (m, robot centre to the nearest occupied cell's centre) the follower
-        keeps and the search treats as inscribed: the robot radius plus half a cell."""
-        return obs.robot.radius + 0.5 * self.settings.cell
+        """The distance (m, cell centre to the nearest occupied cell's centre) within which the
+        search treats a cell as inscribed: the robot radius plus ``passage_margin`` (half a cell
+        for ``dwa_global``, which has no such parameter)."""
+        p = self.settings
+        return obs.robot.radius + getattr(p, "passage_margin", 0.5 * p.cell)
 
     def reset_path(self, obs: Observation) -> None:
         """The grid, the obstacle distances and costs, and the first D* Lite plan (what
@@ -962,10 +1012,11 @@ class DStarLite(Planner):
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell, model=p.sonar_model)
         self.shape = self.grid.shape
-        # cells: where the follower's guard will not take the robot (its radius plus half a cell,
-        # so the occupied cell's edge stays outside the body). With the radius alone, cells the
-        # guard refuses cost ~5 and paths ran into gaps the robot then stood before until it
-        # ended stuck (generated offices and clutter, baselines study)
+        # inscribed cells: within the robot radius plus passage_margin of an occupied cell,
+        # centre to centre (2 cells with the defaults: a gap of four free cells or fewer is
+        # inscribed, of five is not, however the grid's cells fall on it). The follower's
+        # guard measures exactly, to the parts of the cells the sonars have not seen through:
+        # the grid narrows 0.55-0.6 m gaps to four free cells or five, and the robot passes them.
         self.inscribed = self.required_clearance(obs) / p.cell
         self.margin_cells = p.inflation_margin / p.cell
         self.cap = self.inscribed + self.margin_cells + 1.0  # distances beyond change no cost
@@ -973,7 +1024,9 @@ class DStarLite(Planner):
         # the sonars change cells only this far from the robot
         self.window = math.ceil((obs.robot.sonar.max_range + 2 * p.cell) / p.cell) + 1
         self.occupied = np.zeros(self.shape, dtype=bool)
-        self.dist = np.full(self.shape, self.cap)  # cells to the nearest occupied cell centre
+        self.dist = np.full(self.shape, self.cap)  # cells: clearance of each cell's best point
+        x0, y0, _x1, _y1 = self.grid.bounds
+        self._squares = SquareClearance(self.occupied, x0, y0, p.cell, self._clearance_cap(obs))
         self.cost = np.ones(self.shape)
         self.goal_rc = self._clamp(self.grid.world_to_cell(obs.goal))
         self.goal_xy = np.asarray(obs.goal, dtype=float)
@@ -1017,14 +1070,80 @@ class DStarLite(Planner):
         else:
             self.path_xy = self._xy_full[self.repair.offset:]
 
+    def _clearance_cap(self, obs: Observation) -> float:
+        """Clearances beyond this (m) change nothing the follower does."""
+        p = self.settings
+        return (obs.robot.radius + max(getattr(p, "cruise_margin", 0.0), getattr(p, "passage_margin", 0.0))
+                + getattr(p, "slow_distance", 0.0) + p.cell)
+
     def clearance(self, xy: np.ndarray) -> np.ndarray:
-        """(N,) m from points ``xy`` (N, 2) to the nearest occupied cell centre (capped at
-        radius + margin + 1 cell; 0 outside the grid)."""
-        rc = self.grid.world_to_cell(xy)
-        inside = self.grid.frame.contains(rc[:, 0], rc[:, 1])
-        r = np.where(inside, rc[:, 0], 0)
-        c = np.where(inside, rc[:, 1], 0)
-        return np.where(inside, self.dist[r, c] * self.settings.cell, 0.0)
+        """(N,) m from points ``xy`` (N, 2) to the nearest occupied cell, each taken as the square
+        it covers (exact geometry; capped a cell beyond what the follower needs; 0 outside the
+        grid)."""
+        if self._squares.occupied is not self.occupied:  # the map array was replaced
+            self._squares.occupied = self.occupied
+        return self._squares(xy)
+
+    def _odometry_speed(self, obs: Observation) -> float:
+        """Forward speed (m/s) since the last cycle, from odometry (0 on the first)."""
+        pose = np.asarray(obs.pose, dtype=float)
+        prev, t_prev = self._last_pose, self._last_t
+        self._last_pose, self._last_t = pose.copy(), obs.t
+        if prev is None or obs.t <= t_prev:
+            return 0.0
+        d = pose[:2] - prev[:2]
+        return float(d[0] * math.cos(pose[2]) + d[1] * math.sin(pose[2])) / (obs.t - t_prev)
+
+    def _local_clearance(self, obs: Observation) -> PointObstacles:
+        """The clearance the follower and the recovery check motions against this cycle: exact
+        distances to the parts of the occupied cells near the robot that the sonars have not
+        seen through (nor the body covered) in the last ``CARVE_MEMORY_S``
+        (:func:`~nav_bench.planners.footprint.seen_through`; each cell is checked as
+        ``CARVE_SUB`` x ``CARVE_SUB`` small squares). The grid blames a whole echo arc and a
+        cell needs many readings to be carved free again, so it stands up to a cell proud of
+        obstacles and narrows a 0.58 m gap to ~0.4 m, too narrow for the body; the readings
+        themselves tell which parts of those cells the sonars see through.
+
+        A part counts as seen through once two readings from different views (the robot
+        ``VIEW_MOVE_M`` or ``VIEW_TURN_RAD`` apart) saw through it: a box corner can poke
+        between the rays of one cone (a cone's rays are a few degrees apart) and a ray grazing
+        past it reads long, but not from two views. Remembered a few seconds, so that the
+        obstacles do not flicker with the robot's heading; a cell the grid frees forgets it."""
+        cell = self.settings.cell
+        cap = self._squares.cap
+        pose = np.asarray(obs.pose, dtype=float)
+        if (np.hypot(*(pose[:2] - self._view_pose[:2])) >= VIEW_MOVE_M
+                or abs(math.remainder(float(pose[2] - self._view_pose[2]), 2 * math.pi)) >= VIEW_TURN_RAD):
+            self._view += 1
+            self._view_pose = pose.copy()
+        reach = min(self.settings.v_max, obs.robot.v_max) * self.settings.safety_horizon_s + cap + 0.2
+        n = math.ceil(reach / cell)
+        r0, c0 = (int(v) for v in self.grid.world_to_cell(pose[:2]))
+        h, w = self.shape
+        a0, a1, b0, b1 = max(r0 - n, 0), min(r0 + n + 1, h), max(c0 - n, 0), min(c0 + n + 1, w)
+        if a1 <= a0 or b1 <= b0:
+            return PointObstacles(np.zeros((0, 2)), cell / (2 * CARVE_SUB), cap, self.grid.bounds)
+        window = self.occupied[a0:a1, b0:b1]
+        carved = self._carved_t[a0:a1, b0:b1]
+        last_t, last_view = self._seen_t[a0:a1, b0:b1], self._seen_view[a0:a1, b0:b1]
+        carved[~window] = -INF  # a cell the grid frees forgets its carving
+        last_t[~window] = -INF
+        last_view[~window] = -1
+        rr, cc = np.nonzero(window)
+        parts = cell_parts(self.grid.cell_center(rr + a0, cc + b0).reshape(-1, 2), cell)
+        times, seen_at, views = carved[rr, cc], last_t[rr, cc], last_view[rr, cc]  # copies, (M, CARVE_SUB ** 2)
+        flat = parts.reshape(-1, 2)
+        seen = seen_through(flat, cell / CARVE_SUB, [(pose, np.asarray(obs.ranges, dtype=float))],
+                            obs.robot.sonar).reshape(times.shape)
+        confirmed = seen & (views >= 0) & (views != self._view) & (seen_at >= obs.t - CARVE_MEMORY_S)
+        times[confirmed] = obs.t
+        seen_at[seen] = obs.t
+        views[seen] = self._view
+        body = np.hypot(flat[:, 0] - pose[0], flat[:, 1] - pose[1]).reshape(times.shape) <= obs.robot.radius
+        times[body] = obs.t  # the body stands there: certain at once
+        carved[rr, cc], last_t[rr, cc], last_view[rr, cc] = times, seen_at, views
+        keep = times < obs.t - CARVE_MEMORY_S
+        return PointObstacles(parts[keep], cell / (2 * CARVE_SUB), cap, self.grid.bounds)
 
     def _map_changes(self, robot_rc: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Cells whose cost changed since the last cycle (rows, cols, new costs).
@@ -1117,10 +1236,12 @@ class DStarLite(Planner):
     def act(self, obs: Observation) -> Command:
         has_path = self.update_path(obs)
         self.watch.update(obs)
+        self._speed = self._odometry_speed(obs)
+        self._near = self._local_clearance(obs)
         p = self.settings
         if self.recovery.active:
             phase = self.recovery.phase
-            cmd = self.recovery.step(obs)
+            cmd = self.recovery.step(obs, self._near, self.guard_settings.required)
             if cmd is not None:
                 if self.recovery.phase is not phase:
                     self.emit("recovery", obs.t, phase=str(self.recovery.phase), count=self.recovery.count)
@@ -1138,7 +1259,7 @@ class DStarLite(Planner):
             self.recovery.start(obs, backup=not self.unreachable)
             self.emit("recovery", obs.t, phase=str(self.recovery.phase), count=self.recovery.count,
                       reason=str(self.last_reason) if self.last_reason else "no_progress")
-            cmd = self.recovery.step(obs)
+            cmd = self.recovery.step(obs, self._near, self.guard_settings.required)
             if cmd is not None:
                 return cmd
         if not has_path:
@@ -1183,13 +1304,28 @@ class DStarLite(Planner):
             d = float(np.hypot(*(goal - xy)))
             toward = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
             wanted = steer(obs, toward, arrival_speed(d, v))
+            target = goal
         else:
             d = np.hypot(path[:, 0] - xy[0], path[:, 1] - xy[1])
             far = np.nonzero(d >= p.lookahead)[0]
             target = path[far[0]] if len(far) else path[-1]
             toward = math.atan2(target[1] - xy[1], target[0] - xy[0])
             wanted = pure_pursuit(obs, path, p.lookahead, v, turn_in_place=math.radians(p.turn_in_place_deg))
-        return guard(obs, wanted, toward, self.clearance, self.guard_settings)
+        if self._escape is not None:  # hold a way out of the margin until out (or it closes)
+            heading, since = self._escape
+            inside = float(self._near(xy[None, :])[0]) < self.guard_settings.required
+            if inside and obs.t - since < ESCAPE_S:
+                ahead = xy + np.array([math.cos(heading), math.sin(heading)])
+                out = guard(obs, steer(obs, heading, self.guard_settings.squeeze_speed,
+                                       turn_in_place=math.radians(15.0)),
+                            heading, self._near, self.guard_settings, target=ahead, speed=self._speed)
+                if out.command.v > 0.0 or abs(wrap_angle(heading - float(obs.pose[2]))) > math.radians(15.0):
+                    return out
+            self._escape = None
+        out = guard(obs, wanted, toward, self._near, self.guard_settings, target=target, speed=self._speed)
+        if out.escape is not None:
+            self._escape = (out.escape, obs.t)
+        return out
 
     def stuck_reason(self) -> StuckReason | None:
         """NO_PATH when the goal is unreachable on the map; PINNED or OSCILLATING when the

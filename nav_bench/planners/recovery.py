@@ -2,7 +2,10 @@
 
 :class:`ProgressWatch` decides from what a planner sees (odometry and sonar ranges) whether
 the robot has made progress: it got ``progress_m`` farther from where it last made progress,
-or ``progress_m`` closer to the goal than ever before. Odometry alone is not enough: a robot
+or ``progress_m`` closer to the goal than ever before, or it crept a third of that in a
+straight line over at least ``pinned_s`` (odometry travel at most 1.5 times the displacement:
+a robot squeezing through a gap at a few cm/s is getting somewhere; one rocking to and fro is
+not). Odometry alone is not enough: a robot
 pressed on a corner spins its wheels and its odometry drives on. So a cycle counts as *pinned*
 when, over the last ``pinned_s``, odometry moved the robot but the sonar ranges did not change
 as that motion predicts (each echoing sonar should see its range change by the displacement's
@@ -10,7 +13,8 @@ component along its axis); odometry moves made while pinned are not progress.
 
 :class:`Recovery` is the sequence of ROS move_base's recovery behaviours reduced to what six
 sonars allow: back up ``backup_m`` (stopping early when a rear sonar sees something within
-10 cm of the body), rotate in place ``rotate_rad`` to re-sense the surroundings, then hand back
+10 cm of the body or, given the planner's map clearance, when the next 10 cm backward would
+bring the body nearer an occupied cell than allowed: the default robot has no rear sonars), rotate in place ``rotate_rad`` to re-sense the surroundings, then hand back
 to the planner, which re-plans from scratch (and, when it still has no path, may clear its map
 like ROS's clear_costmap recovery). Units: m, s, rad.
 """
@@ -26,6 +30,12 @@ import numpy as np
 
 from nav_bench.interface import Command, Observation, StuckReason
 from nav_bench.planners.follow import echo_mask, limit
+from nav_bench.planners.footprint import Clearance, is_safe, rollout
+
+CREEP_SHARE = 1.0 / 3.0  # of progress_m: a straight creep this long counts as progress
+CREEP_TRAVEL = 1.5  # odometry travel over displacement below which a creep is straight
+PINNED_CONE = math.radians(30.0)  # sonars within this of the direction of motion judge pinning
+BACKUP_CHECK_M = 0.1  # m: the back-up looks this far behind the robot on the map
 
 
 class RecoveryPhase(str, Enum):
@@ -95,14 +105,17 @@ class ProgressWatch:
         if self.pinned:
             return
         to_goal = float(np.hypot(*(np.asarray(obs.goal) - xy)))
-        if (float(np.hypot(*(xy - self.anchor))) >= self.s.progress_m
-                or to_goal <= self.best_goal - self.s.progress_m):
+        moved = float(np.hypot(*(xy - self.anchor)))
+        crept = (moved >= CREEP_SHARE * self.s.progress_m and self.travel <= CREEP_TRAVEL * moved
+                 and obs.t - self.t_progress >= self.s.pinned_s)  # slow: the pinned test has had its window
+        if moved >= self.s.progress_m or to_goal <= self.best_goal - self.s.progress_m or crept:
             self.anchor, self.t_progress, self.travel = xy.copy(), obs.t, 0.0
             self.best_goal = min(self.best_goal, to_goal)
 
     def _pinned(self, obs: Observation) -> bool:
-        """Odometry moved >= 8 cm in the window, but the echoing sonars' ranges changed by less
-        than 30 % of what that displacement predicts along their axes."""
+        """Odometry moved >= 8 cm in the window, but the echoing sonars looking within
+        ``PINNED_CONE`` of the direction of motion saw their ranges change by less than 30 % of
+        what that displacement predicts along their axes."""
         t0, pose0, r0 = self._history[0]
         if obs.t - t0 < 0.5 * self.s.pinned_s:
             return False
@@ -113,7 +126,11 @@ class ProgressWatch:
         sonar = obs.robot.sonar
         axes = pose0[2] + sonar.angles
         predicted = -(shift[0] * np.cos(axes) + shift[1] * np.sin(axes))  # range change, m
-        seen = np.isfinite(r0) & np.isfinite(r1) & (np.abs(predicted) > 0.04)
+        # only sonars looking along the motion: the range of one looking sideways at a wall the
+        # robot drives along does not change however far it drives (a 45 deg sonar in a long
+        # corridor called a robot cruising along a wall pinned, in the generated mazes)
+        along = np.abs(np.angle(np.exp(1j * (axes - math.atan2(shift[1], shift[0]))))) <= PINNED_CONE
+        seen = np.isfinite(r0) & np.isfinite(r1) & (np.abs(predicted) > 0.04) & along
         if not seen.any():
             return False
         return bool(np.abs(r1[seen] - r0[seen]).sum() < 0.3 * np.abs(predicted[seen]).sum())
@@ -168,13 +185,28 @@ class Recovery:
         close = echo_mask(obs) & (np.asarray(obs.ranges) < 0.1)
         return bool(np.any(rear & close))
 
-    def step(self, obs: Observation) -> Command | None:
-        """This cycle's command; None when the recovery has finished (the caller re-plans)."""
+    def _map_blocks_backup(self, obs: Observation, clearance: Clearance | None, required: float) -> bool:
+        """Would the next ``BACKUP_CHECK_M`` backward bring the footprint nearer an occupied cell
+        of the map than ``required`` (or, already nearer, nearer still)?"""
+        if clearance is None:
+            return False
+        pose = np.asarray(obs.pose, dtype=float)
+        now = float(clearance(pose[None, :2])[0])
+        steps = max(2, math.ceil(BACKUP_CHECK_M / 0.02))
+        along = clearance(rollout(pose, -BACKUP_CHECK_M, 0.0, 1.0, steps))
+        return not is_safe(now, along, required)
+
+    def step(self, obs: Observation, clearance: Clearance | None = None,
+             required: float = 0.0) -> Command | None:
+        """This cycle's command; None when the recovery has finished (the caller re-plans).
+        ``clearance`` (m from points to the map's occupied cells) and ``required`` (m) let the
+        back-up stop before the map's obstacles behind the robot."""
         s = self.s
         if self.phase is RecoveryPhase.BACKUP:
             moved = float(np.hypot(*(np.asarray(obs.pose[:2]) - self._start[:2])))
             timed_out = obs.t - self._t0 > 2.0 * s.backup_m / max(s.backup_speed, 1e-3) + 1.0
-            if moved >= s.backup_m or timed_out or self._rear_blocked(obs):
+            if (moved >= s.backup_m or timed_out or self._rear_blocked(obs)
+                    or self._map_blocks_backup(obs, clearance, required)):
                 self._enter(RecoveryPhase.ROTATE, obs)
             else:
                 return limit(-s.backup_speed, 0.0, obs.robot)

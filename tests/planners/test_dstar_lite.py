@@ -16,6 +16,7 @@ import pytest
 from nav_bench.episode.loop import run_episode
 from nav_bench.interface import Command, Observation, StuckReason
 from nav_bench.planners.dstar_lite import (
+    CLEARANCE_POWER,
     DStarLite,
     DStarLiteSearch,
     PathRepair,
@@ -26,7 +27,7 @@ from nav_bench.planners.dstar_lite import (
     obstacle_distance,
     uniform_costs_to_go,
 )
-from nav_bench.planners.footprint import GuardSettings, guard, rollout
+from nav_bench.planners.footprint import GuardSettings, echo_blocks, guard, rollout
 from nav_bench.specs import PlannerSetSpec
 from nav_bench.testing.harness import BoxWorld, default_robot, run, wall_world
 from nav_bench.world.load import load_world
@@ -149,9 +150,11 @@ def test_inflation_costs_cells_within_radius_plus_margin() -> None:
 def test_planner_costs_match_a_distance_transform_of_the_whole_map() -> None:
     # the planner recomputes distances and costs only in windows around flipped cells
     world, start, goal = wall_world()
-    result = run(DStarLite(inflation_margin=0.3, cell=0.1), world, start, goal, time_s=3.0)
+    result = run(DStarLite(inflation_margin=0.3, cell=0.1, passage_margin=0.05, clearance_cost=5.0),
+                 world, start, goal, time_s=3.0)
     planner = result.planner
-    # the harness robot's radius 0.2 m plus half a cell: where the guard will not drive
+    # the harness robot's radius 0.2 m plus passage_margin: inscribed where no point of the cell
+    # keeps that much from the occupied cells
     assert planner.inscribed == pytest.approx((0.2 + 0.05) / 0.1)
     occ = planner.occupied
     assert occ.any()  # the wall is in the map after a few seconds of sonar
@@ -216,8 +219,8 @@ def test_clearance_cost_puts_the_path_down_the_middle_of_a_corridor() -> None:
     np.testing.assert_allclose(dist[:, 20], [0, 1, 2, 3, 4, 5, 4, 3, 2, 1, 0])
     cost = clearance_costs(dist, 2.0, 3.5, 1000.0, 5.0)
     assert cost[0, 0] == INF and cost[2, 0] == 1000.0  # occupied; inscribed (2 cells)
-    assert cost[5, 0] == pytest.approx(1.0 + 4.0 * (0.5 / 3.5) ** 2, abs=1 / 128)
-    assert cost[3, 0] > cost[4, 0] > cost[5, 0] > 1.0
+    assert cost[5, 0] == pytest.approx(1.0 + 4.0 * (0.5 / 3.5) ** CLEARANCE_POWER, abs=1 / 128)
+    assert cost[3, 0] > cost[4, 0] > cost[5, 0] >= 1.0
     _c, path = astar(cost, (3, 1), (7, 38))  # from off-centre to off-centre
     middle = [rc for rc in path if 6 <= rc[1] <= 33]
     assert middle == [(5, c) for c in range(6, 34)]
@@ -460,8 +463,9 @@ def test_the_guarded_follower_never_drives_into_an_occupied_cell() -> None:
         along = clearance(rollout(pose, out.v, out.omega, 1.0, 20))
         floor = min(settings.required, now) - 0.01
         assert np.all(along >= floor), (pose, wanted, out)
-        turned += out.v == 0.0
-    assert turned > 30  # many wanted commands drove at the corner and were refused
+        changed = out.v == 0.0 or out.v < wanted.v - 1e-9 or abs(out.omega / out.v - wanted.omega / wanted.v) > 1e-6
+        turned += changed  # stopped, slowed, or slid along the corner on another arc
+    assert turned > 30  # many wanted commands drove at the corner and were changed
 
 
 def test_an_echo_in_the_footprint_corridor_stops_forward_motion() -> None:
@@ -472,7 +476,9 @@ def test_an_echo_in_the_footprint_corridor_stops_forward_motion() -> None:
                       robot=robot, bounds=(-5.0, -5.0, 5.0, 5.0), dt=0.1)
     out = guard(obs, Command(0.4, 0.0), 0.0, lambda xy: np.full(len(xy), 5.0),
                 GuardSettings(required=0.25)).command
-    assert out.v == 0.0
+    # no straight motion at any speed; at most a slow slide turning away from the echoes
+    assert out.v == 0.0 or (out.v <= 0.1 and abs(out.omega) >= 0.5)
+    assert not echo_blocks(obs, out.v, out.omega, 1.5)
 
 
 # --------------------------------------------------------------------------- recovery
