@@ -330,9 +330,9 @@ class OccupancyGrid(OnGridFrame):
         # candidates are picked around each sonar's own cell, whose centre is within half a
         # diagonal of the sonar
         disc, per_row = self._cone_candidates(axes, reach, half_cone)
-        sonar_of = np.repeat(self._sonar_numbers(count), per_row)
+        sonar_of = self._sonar_numbers(count).repeat(per_row)
         # each candidate's sonar row: (_SONAR_ROWS, m)
-        per_sonar = np.repeat(np.array(rows).reshape(count, _SONAR_ROWS).T, per_row, axis=1)
+        per_sonar = np.array(rows).reshape(count, _SONAR_ROWS).T.take(sonar_of, axis=1)
         # column, row and flat offsets from the robot's cell (whole numbers, exact as floats)
         offsets = self._disc_offsets.take(disc, axis=1)
         offsets += per_sonar[:3]
@@ -357,7 +357,7 @@ class OccupancyGrid(OnGridFrame):
         if not (span <= r0 < height - span and span <= c0 < width - span):
             dc, dr = offsets[0], offsets[1]
             touched &= (dr >= -r0) & (dr < height - r0) & (dc >= -c0) & (dc < width - c0)
-        keep = np.flatnonzero(touched)
+        keep = touched.nonzero()[0]  # np.flatnonzero without its Python wrappers
         if len(keep) == 0:
             return None
         # >= 0: the cell's row is r0 - span or above
@@ -368,9 +368,11 @@ class OccupancyGrid(OnGridFrame):
             # angle from the axis on the half-cell-widened cone (module docstring)
             off_axis = lateral.take(keep)
             off_axis -= cell / 2
-            theta = np.arctan2(np.maximum(off_axis, 0.0, out=off_axis), along.take(keep))
-            theta /= half_cone
-            weight = np.maximum(1.0 - np.square(theta, out=theta), 0.0)
+            weight = np.arctan2(np.maximum(off_axis, 0.0, out=off_axis), along.take(keep))
+            weight /= half_cone
+            np.square(weight, out=weight)
+            np.subtract(1.0, weight, out=weight)
+            np.maximum(weight, 0.0, out=weight)
         return _ConeCells(idx=local + (r0 - span) * width, sonar=sonar_of.take(keep), local=local,
                           local_size=(2 * span + 1) * width, occ=occ.take(keep), weight=weight,
                           count=count)
@@ -392,7 +394,7 @@ class OccupancyGrid(OnGridFrame):
             self._owner = np.zeros(cells.local_size, dtype=np.int64)
         owner = self._owner
         owner[disc] = sonar_of
-        if not (owner.take(disc) != sonar_of).any():  # every cell in one cone only: one run
+        if not np.count_nonzero(owner.take(disc) != sonar_of):  # every cell in one cone only: one run
             return [slice(0, len(disc))]
         order = np.argsort(disc, kind="stable")  # entries of one cell: adjacent, in sonar order
         shared = disc[order[1:]] == disc[order[:-1]]
@@ -410,7 +412,7 @@ class OccupancyGrid(OnGridFrame):
         else:
             w = cells.weight[run]
             delta = w * self.l_free
-            arc = np.flatnonzero(occ)
+            arc = occ.nonzero()[0]
             if len(arc):
                 # Konolige's share of each sonar's echo over its own arc: w_i p_i / sum_j w_j p_j
                 blame = np.negative(lo.take(arc))
@@ -420,7 +422,7 @@ class OccupancyGrid(OnGridFrame):
                 sonar_of = cells.sonar[run].take(arc)
                 total = np.bincount(sonar_of, weights=blame, minlength=cells.count).take(sonar_of)
                 share = np.multiply(self.echo_share, blame)
-                if total.min() > 0:
+                if np.minimum.reduce(total) > 0:
                     share /= total
                 else:  # no weight on the arc: no evidence
                     share = np.divide(share, total, out=np.zeros(len(arc)), where=total > 0)

@@ -8,6 +8,8 @@ is intended, a spot where the robot lingered is a spot to leave.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from nav_bench.mapping.grid import Bounds, GridFrame, OnGridFrame
@@ -32,8 +34,13 @@ class VisitGrid(OnGridFrame):
 
     def add(self, xy: np.ndarray | tuple[float, float]) -> bool:
         """Count one control cycle at point ``xy`` (m). False (nothing counted) outside the grid."""
-        row, col = (int(v) for v in self.frame.world_to_cell(np.asarray(xy, dtype=float)[:2]))
-        if not self.frame.contains(row, col):
+        x, y = (float(v) for v in xy[:2])
+        if not (math.isfinite(x) and math.isfinite(y)):
+            return False
+        frame = self.frame
+        # GridFrame.world_to_cell and contains, in scalars (the same floating-point operations)
+        row, col = math.floor((y - frame.ymin) / frame.cell), math.floor((x - frame.xmin) / frame.cell)
+        if not (0 <= row < frame.rows and 0 <= col < frame.cols):
             return False
         self.counts[row, col] += 1
         return True

@@ -71,6 +71,48 @@ def front_sonars(sonar: SonarInfo, front_fov: float) -> np.ndarray:
     return np.abs(angles) <= front_fov / 2 + 1e-9
 
 
+@dataclass(frozen=True)
+class FrontSonars:
+    """The front sonars' geometry, worked out once per robot for :meth:`distance`
+    (:func:`front_distance`, what EO/PC asks every cycle).
+
+    Attributes:
+        index: (F,) which readings are the front sonars'.
+        off_x, off_y: (F,) their mount offsets from the robot centre, m.
+        cos, sin: (F,) of their mount angles.
+        max_range: m, what a no-echo reading counts as.
+    """
+
+    index: np.ndarray
+    off_x: np.ndarray
+    off_y: np.ndarray
+    cos: np.ndarray
+    sin: np.ndarray
+    max_range: float
+
+    @classmethod
+    def of(cls, sonar: SonarInfo, front: np.ndarray) -> FrontSonars:
+        """The sonars ``front`` (K,) bool picks out of ``sonar``."""
+        off = np.asarray(sonar.offsets, dtype=float)[front]
+        angles = sonar.angles[front]
+        return cls(np.flatnonzero(front), np.ascontiguousarray(off[:, 0]),
+                   np.ascontiguousarray(off[:, 1]), np.cos(angles), np.sin(angles),
+                   sonar.max_range)
+
+    def distance(self, ranges: np.ndarray) -> float:
+        """:func:`front_distance` of (K,) readings ``ranges`` (m), the same floating-point
+        operations on the front sonars only."""
+        if not len(self.index):
+            return math.inf
+        r = ranges.take(self.index)
+        r = np.where(np.isfinite(r), np.minimum(r, self.max_range), self.max_range)
+        ex = r * self.cos
+        ex += self.off_x
+        ey = np.multiply(r, self.sin, out=r)
+        ey += self.off_y
+        return float(np.minimum.reduce(np.hypot(ex, ey)))
+
+
 def front_distance(ranges: np.ndarray, sonar: SonarInfo, front: np.ndarray) -> float:
     """Shortest distance (m) from the **robot centre** to an echo of a front sonar.
 
@@ -79,6 +121,7 @@ def front_distance(ranges: np.ndarray, sonar: SonarInfo, front: np.ndarray) -> f
     (``offset + range * axis``) and its distance to the centre taken. For a sonar mounted
     radially, as on the default robot, that is exactly ``range + |offset|``.
     A no-echo reading counts as ``max_range``. ``inf`` when no sonar is in front.
+    :meth:`FrontSonars.distance` gives the same number at a third of the cost.
     """
     if not front.any():
         return math.inf
@@ -107,8 +150,9 @@ def eo_speed(d: float, v_max: float, lambda1: float, lambda2: float, v_min: floa
 
 
 def steer(heading_error: float, gain: float, omega_max: float) -> float:
-    """Proportional turn rate (rad/s) toward a heading error (rad), limited to ``omega_max``."""
-    return float(np.clip(gain * heading_error, -omega_max, omega_max))
+    """Proportional turn rate (rad/s) toward a heading error (rad), limited to ``omega_max``
+    (``np.clip``'s result, NaN included, without its cost on one number)."""
+    return float(min(max(gain * heading_error, -omega_max), omega_max))
 
 
 # ============================================================================ PC: cost terms
@@ -601,10 +645,11 @@ class EOPC(Planner):
         super().reset(obs, rng)
         p = self.settings
         sonar = obs.robot.sonar
-        self._front = front_sonars(sonar, math.radians(p.front_fov_deg))
-        if not self._front.any():
+        front = front_sonars(sonar, math.radians(p.front_fov_deg))
+        if not front.any():
             raise PlannerError(f"eopc: no sonar within front_fov_deg = {p.front_fov_deg} "
                                f"(mount angles {np.degrees(sonar.angles).round(1).tolist()} deg)")
+        self._front = FrontSonars.of(sonar, front)
         m = p.map_margin
         xmin, ymin, xmax, ymax = obs.bounds
         bounds = (xmin - m, ymin - m, xmax + m, ymax + m)
@@ -662,7 +707,7 @@ class EOPC(Planner):
         if abs(error) > math.radians(p.align_deg):
             # a pure rotation: no translation is wanted, so EO (a speed rule) has nothing to stop
             return Command(0.0, steer(error, p.k_heading, self._omega_max))
-        d = front_distance(np.asarray(obs.ranges, dtype=float), obs.robot.sonar, self._front)
+        d = self._front.distance(np.asarray(obs.ranges, dtype=float))
         if d < p.lambda2:  # Step 1.3: EO has stopped the robot -> PC
             return self._replan(obs, pose, TRIGGER_EO_STOP, yaw)
         v = eo_speed(d, self._v_max, p.lambda1, p.lambda2, p.v_min)  # Step 2

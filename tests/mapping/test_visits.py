@@ -28,3 +28,22 @@ def test_pose_arrays_count_by_position_only_and_reset_clears() -> None:
     assert grid.counts[0, 2] == 1
     grid.reset()
     assert grid.counts.sum() == 0
+
+
+def test_add_counts_the_cell_grid_frame_names_even_on_cell_edges() -> None:
+    # add() works in scalars; GridFrame.world_to_cell / contains (NumPy) must name the same cell
+    grid = VisitGrid((-1.0, -2.0, 3.0, 1.0), cell=0.1)
+    rng = np.random.default_rng(3)
+    edges = np.round(rng.uniform(-1.5, 3.5, (300, 2)), 1)  # on cell edges (in decimal)
+    points = np.vstack([edges, rng.uniform(-1.5, 3.5, (300, 2)), [[np.nan, 0.0], [np.inf, 0.0],
+                                                                   [0.0, -np.inf], [1e300, 0.0]]])
+    expected = np.zeros_like(grid.counts)
+    for xy in points:
+        with np.errstate(invalid="ignore"):
+            row, col = grid.frame.world_to_cell(xy)
+        inside = bool(grid.frame.contains(row, col)) and bool(np.isfinite(xy).all())
+        if inside:
+            expected[row, col] += 1
+        assert grid.add(xy) == inside
+    np.testing.assert_array_equal(grid.counts, expected)
+    assert expected.sum() == 233  # of the 604 points, the ones inside the grid

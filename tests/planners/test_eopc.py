@@ -20,6 +20,7 @@ from nav_bench.interface import Command, Observation
 from nav_bench.mapping import GridFrame
 from nav_bench.planners.eopc import (
     EOPC,
+    FrontSonars,
     choose_neighbour,
     collision_risk,
     crossed_cells,
@@ -37,6 +38,7 @@ from nav_bench.planners.eopc import (
     region_radius,
     risk_index,
     select_neighbour,
+    steer,
     term_scales,
     travel_cost,
 )
@@ -283,6 +285,33 @@ def test_front_distance_is_measured_from_the_robot_centre() -> None:
     ranges = np.array([0.1, 1.0, 0.5, 0.6, 3.0, 0.05])
     assert front_distance(ranges, robot.sonar, front) == pytest.approx(0.7)
     assert front_sonars(robot.sonar, math.radians(20)).tolist() == [False] * 6
+
+
+def test_front_sonars_distance_is_front_distance_bit_for_bit() -> None:
+    # EO/PC keeps the front sonars' geometry (FrontSonars) and asks it every cycle: the same
+    # number as front_distance, no-echo, infinite and NaN readings included
+    robot = default_robot()
+    rng = np.random.default_rng(4)
+    for fov in (100.0, 40.0, 360.0, 10.0):
+        front = front_sonars(robot.sonar, math.radians(fov))
+        geometry = FrontSonars.of(robot.sonar, front)
+        for _ in range(200):
+            ranges = rng.uniform(0.0, 3.5, 6)
+            ranges[rng.random(6) < 0.2] = robot.sonar.max_range
+            ranges[rng.random(6) < 0.05] = rng.choice([np.inf, np.nan])
+            expected = front_distance(ranges, robot.sonar, front)
+            assert geometry.distance(ranges) == expected or (math.isnan(expected)
+                                                            and math.isnan(geometry.distance(ranges)))
+    assert FrontSonars.of(robot.sonar, front_sonars(robot.sonar, 0.0)).distance(np.ones(6)) == math.inf
+
+
+def test_steer_is_np_clip_of_the_proportional_rate() -> None:
+    for error in (0.0, -0.0, 0.3, -0.3, 2.0, -2.0, 1e300, -math.inf, math.inf):
+        for gain, limit in ((1.5, 1.0), (0.5, 0.2), (2.0, 0.0)):
+            got = steer(error, gain, limit)
+            assert got == float(np.clip(gain * error, -limit, limit))
+            assert math.copysign(1.0, got) == math.copysign(1.0, float(np.clip(gain * error, -limit, limit)))
+    assert math.isnan(steer(math.nan, 1.0, 1.0))
 
 
 # ------------------------------------------------------------------ the planner loop
