@@ -121,16 +121,9 @@ def front_distance(ranges: np.ndarray, sonar: SonarInfo, front: np.ndarray) -> f
     (``offset + range * axis``) and its distance to the centre taken. For a sonar mounted
     radially, as on the default robot, that is exactly ``range + |offset|``.
     A no-echo reading counts as ``max_range``. ``inf`` when no sonar is in front.
-    :meth:`FrontSonars.distance` gives the same number at a third of the cost.
+    A planner asking every cycle keeps a :class:`FrontSonars` and calls its ``distance``.
     """
-    if not front.any():
-        return math.inf
-    r = np.where(np.isfinite(ranges), np.minimum(ranges, sonar.max_range), sonar.max_range)[front]
-    a = sonar.angles[front]
-    off = sonar.offsets[front]
-    ex = off[:, 0] + r * np.cos(a)
-    ey = off[:, 1] + r * np.sin(a)
-    return float(np.min(np.hypot(ex, ey)))
+    return FrontSonars.of(sonar, front).distance(np.asarray(ranges, dtype=float))
 
 
 def eo_speed(d: float, v_max: float, lambda1: float, lambda2: float, v_min: float = 0.0) -> float:

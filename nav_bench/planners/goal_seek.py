@@ -15,7 +15,7 @@ import numpy as np
 
 from nav_bench.interface import Command, Observation, wrap_angle
 from nav_bench.planners.base import Param, ParamError, Planner
-from nav_bench.planners.eopc import eo_speed, front_distance, front_sonars, steer
+from nav_bench.planners.eopc import FrontSonars, eo_speed, front_sonars, steer
 
 
 class GoalSeek(Planner):
@@ -49,7 +49,7 @@ class GoalSeek(Planner):
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)
         p = self.settings
-        self._front = front_sonars(obs.robot.sonar, math.radians(p.front_fov_deg))
+        self._front = FrontSonars.of(obs.robot.sonar, front_sonars(obs.robot.sonar, math.radians(p.front_fov_deg)))
         self._v_max = min(p.v_max, obs.robot.v_max)
         self._omega_max = min(p.omega_max, obs.robot.omega_max)
         self._mode = "goal"
@@ -66,7 +66,7 @@ class GoalSeek(Planner):
         if abs(error) > math.radians(p.align_deg):
             self._mode = "turn"
             return Command(0.0, omega)
-        d = front_distance(np.asarray(obs.ranges, dtype=float), obs.robot.sonar, self._front)
+        d = self._front.distance(np.asarray(obs.ranges, dtype=float))
         v = eo_speed(d, self._v_max, p.slow_distance, p.stop_distance, p.v_min)
         self._mode = "goal" if v > 0 else "stopped"
         return Command(v * math.cos(error), omega)

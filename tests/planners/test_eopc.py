@@ -287,9 +287,19 @@ def test_front_distance_is_measured_from_the_robot_centre() -> None:
     assert front_sonars(robot.sonar, math.radians(20)).tolist() == [False] * 6
 
 
-def test_front_sonars_distance_is_front_distance_bit_for_bit() -> None:
-    # EO/PC keeps the front sonars' geometry (FrontSonars) and asks it every cycle: the same
-    # number as front_distance, no-echo, infinite and NaN readings included
+def _echo_points_distance(ranges: np.ndarray, sonar, front: np.ndarray) -> float:
+    """The front distance written out as the docstring states it: each echo placed at
+    ``offset + range * axis`` in the robot frame, no echo as max_range, the nearest taken."""
+    if not front.any():
+        return math.inf
+    r = np.where(np.isfinite(ranges), np.minimum(ranges, sonar.max_range), sonar.max_range)[front]
+    a, off = sonar.angles[front], sonar.offsets[front]
+    return float(np.min(np.hypot(off[:, 0] + r * np.cos(a), off[:, 1] + r * np.sin(a))))
+
+
+def test_front_distance_is_the_nearest_echo_point_bit_for_bit() -> None:
+    # EO/PC and goal_seek keep the front sonars' geometry (FrontSonars) and ask it every
+    # cycle: exactly the echo-point formula, no-echo, infinite and NaN readings included
     robot = default_robot()
     rng = np.random.default_rng(4)
     for fov in (100.0, 40.0, 360.0, 10.0):
@@ -299,9 +309,9 @@ def test_front_sonars_distance_is_front_distance_bit_for_bit() -> None:
             ranges = rng.uniform(0.0, 3.5, 6)
             ranges[rng.random(6) < 0.2] = robot.sonar.max_range
             ranges[rng.random(6) < 0.05] = rng.choice([np.inf, np.nan])
-            expected = front_distance(ranges, robot.sonar, front)
-            assert geometry.distance(ranges) == expected or (math.isnan(expected)
-                                                            and math.isnan(geometry.distance(ranges)))
+            expected = _echo_points_distance(ranges, robot.sonar, front)
+            for got in (geometry.distance(ranges), front_distance(ranges, robot.sonar, front)):
+                assert got == expected or (math.isnan(expected) and math.isnan(got))
     assert FrontSonars.of(robot.sonar, front_sonars(robot.sonar, 0.0)).distance(np.ones(6)) == math.inf
 
 
