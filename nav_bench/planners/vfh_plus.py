@@ -369,17 +369,15 @@ def select_direction(primary: np.ndarray, masked: np.ndarray, phi_r: float, phi_
     k_target, k_heading, k_prev = sectors
     n = len(primary)
     k = choose_direction(candidate_directions(masked, k_target, p.s_max), k_target, k_heading, k_prev, n, mu)
-    back = n * p.turn_back_deg / 360.0  # sectors from the goal beyond which a choice turns back
-    if k is not None and sector_distance(k, k_target, n) <= back:
+    if k is not None:
         return k, masked, 1.0
     for factor in relax_factors(p.relax_max):
         blocked = primary > factor * p.threshold_high
         relaxed = masked_histogram(blocked if near is None else blocked | near, heading, phi_r, phi_l)
-        k_relaxed = choose_direction(candidate_directions(relaxed, k_target, p.s_max), k_target, k_heading,
-                                     k_prev, n, mu)
-        if k_relaxed is not None and (k is None or sector_distance(k_relaxed, k_target, n) <= back):
-            return k_relaxed, relaxed, factor
-    return (None, masked, 1.0) if k is None else (k, masked, 1.0)
+        k = choose_direction(candidate_directions(relaxed, k_target, p.s_max), k_target, k_heading, k_prev, n, mu)
+        if k is not None:
+            return k, relaxed, factor
+    return None, masked, 1.0
 
 
 class VFHPlus(Planner):
@@ -411,9 +409,6 @@ class VFHPlus(Planner):
               minimum=1e-6),
         Param("relax_max", 4.0, "-", "with no valley, threshold_high is doubled up to this factor until one "
               "opens (the robot then creeps at relaxed_speed); 1 turns it off", minimum=1.0),
-        Param("turn_back_deg", 110.0, "deg", "a valley more than this from the goal direction is taken only "
-              "if relaxed thresholds open none within it (180: relax only when no valley is open)",
-              minimum=0.0, maximum=180.0),
         Param("relaxed_speed", 0.1, "m/s", "top speed while driving through a valley opened only by relax_max",
               minimum=0.0),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the chosen direction is farther off",
@@ -458,8 +453,9 @@ class VFHPlus(Planner):
         k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
         k_heading = self._sector(yaw)
         # relaxed thresholds must not open a sector toward a cell within r_rs + one cell
-        near = near_sectors(np.stack([window.x, window.y], axis=1), window.certainty, xy, self.n, r_rs,
-                            r_rs + p.cell, p.mask_certainty)
+        near = (near_sectors(np.stack([window.x, window.y], axis=1), window.certainty, xy, self.n, r_rs,
+                             r_rs + p.cell, p.mask_certainty)
+                if self.masked.all() else None)
         k, self.masked, factor = select_direction(
             self.primary, self.masked, phi_r, phi_l, yaw, (k_target, k_heading, self.k_prev), p, near)
         v_top, slow = min(p.v_max, robot.v_max), p.slow_density
