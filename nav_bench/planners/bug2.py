@@ -85,7 +85,7 @@ class Bug2(Planner):
         self.side = LEFT if p.wall_side == "left" else RIGHT
         self.follower = WallFollower(self.side, p.wall_distance, p.v_max, p.front_distance)
         self.memory = EchoMemory(p.memory_s)
-        self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius)
+        self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius, side=self.side)
         self._prev_xy = self.start.copy()
         self._hits: list[list[float]] = []
 
@@ -111,6 +111,7 @@ class Bug2(Planner):
         p = self.settings
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         self.memory.add(obs)
+        self.follower.observe(obs)  # remember the boundary before following it
         to_goal = float(np.hypot(*(goal - xy)))
         heading = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
         v = min(p.v_max, obs.robot.v_max)

@@ -209,6 +209,10 @@ class TangentBug(Planner):
         self.stall = 0
         self.side = RIGHT
         self.follower: WallFollower | None = None
+        # one follower per side, both watching every cycle: the one that takes over already
+        # remembers the boundary it is to follow
+        self.followers = {side: WallFollower(side, p.wall_distance, p.v_max, p.front_distance)
+                          for side in (LEFT, RIGHT)}
         self.acquired = False
         self.d_followed = math.inf
         self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius)
@@ -267,8 +271,9 @@ class TangentBug(Planner):
     def _start_following(self, obs: Observation, xy: np.ndarray, side: int) -> None:
         p = self.settings
         self.mode, self.side, self.acquired = FOLLOW, side, False
-        self.follower = WallFollower(side, p.wall_distance, p.v_max, p.front_distance)
+        self.follower = self.followers[side]
         self.d_followed = math.inf
+        self.loop.side = side
         self.loop.arm(xy, float(obs.pose[2]))
         self._follow_starts.append([float(xy[0]), float(xy[1])])
         self.emit("replan", obs.t, reason="follow_boundary", side="left" if side == LEFT else "right")
@@ -277,6 +282,8 @@ class TangentBug(Planner):
         p = self.settings
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         self.memory.add(obs)
+        for follower in self.followers.values():
+            follower.observe(obs)
         self._polar_echoes = None  # the memory and the position changed
         v = min(p.v_max, obs.robot.v_max)
         d_goal = float(np.hypot(*(goal - xy)))
