@@ -205,14 +205,17 @@ class WallFollower:
     point while the robot passes it, so the robot rounds it at ``distance``; a wall ahead
     becomes the nearest point as the robot nears it, so the robot turns away from it.
 
-    Only the sonars pointing to ``side`` are remembered, and points count when their bearing in
-    the robot frame lies between ``-ahead_margin`` (slightly toward the other side) and pi on
-    ``side`` (ahead, beside, behind): the opposite wall of a corridor is never followed (a cone
-    sonar's echo is placed on its axis, up to half a cone off the surface: the other side's
-    echoes drift ahead as the robot turns). An obstacle straight ahead is met by the turn on the
-    spot below ``front``. When none lies within
-    ``distance + reach`` m, the boundary has ended out of reach: the robot arcs toward
-    ``side`` with radius ``distance`` to find it again.
+    Only the side sonar (axis within 30 deg of 90 deg on ``side``) is remembered: its echo of a
+    wall beside the robot comes along its axis, where it is placed; a diagonal or front sonar
+    hears a wall at a slant through its cone's edge, up to half a cone off its axis, and such
+    points, remembered, drift into the way ahead as the robot turns. This cycle's echoes of all
+    the sonars on ``side`` count too. Points count when their bearing in the robot frame lies
+    between ``-ahead_margin`` (slightly toward the other side) and ``behind_limit`` on ``side``:
+    the opposite wall of a corridor is never followed, nor the wall just left behind at a
+    concave corner. An echo of the front sonars closer than ``front`` and not farther than the
+    nearest side point (by ``ahead_slack``) is a wall ahead: the robot turns on the spot away
+    from ``side``. When no point lies within ``distance + reach`` m, the boundary has ended out
+    of reach: the robot arcs toward ``side`` with radius ``distance`` to find it again.
 
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
@@ -251,10 +254,14 @@ class WallFollower:
             self._seen_t = obs.t
 
     def nearest(self, obs: Observation) -> tuple[float, float] | None:
-        """(distance m, world bearing rad) of the nearest remembered echo on the followed side
-        within ``distance + reach`` m; ``None`` if there is none."""
+        """(distance m, world bearing rad) of the nearest echo on the followed side within
+        ``distance + reach`` m, among the remembered side-sonar echoes and this cycle's echoes
+        of every sonar on that side (a diagonal sonar sees a door jamb's end before the side
+        sonar does; its axis placement is off by up to half a cone, too much to remember, but
+        right enough now); ``None`` if there is none."""
         xy = np.asarray(obs.pose[:2], dtype=float)
-        pts = self.memory.points(xy, self.distance + self.reach)
+        now = obs.sonar_hits()[echo_mask(obs) & (self.side * obs.robot.sonar.angles > 0.0)]
+        pts = np.concatenate([self.memory.points(xy, self.distance + self.reach), now])
         if len(pts) == 0:
             return None
         d = pts - xy
