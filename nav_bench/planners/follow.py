@@ -70,19 +70,22 @@ def front_obstacle(obs: Observation, distance: float, half_width: float, within:
 
 
 def free_along(points: np.ndarray, origin: np.ndarray, heading: float, length: float,
-               half_width: float) -> bool:
+               half_width: float, body: float = 0.0) -> bool:
     """True if none of the world ``points`` (M, 2) lies in the rectangle starting at ``origin``
     (2,) along ``heading`` (rad) for ``length`` m, ``half_width`` m to each side.
 
     Points behind ``origin`` are ignored: a cone sonar's echo placed on its axis can sit
-    beside the robot although the surface it came from is farther away."""
+    beside the robot although the surface it came from is farther away. So are points closer
+    than ``body`` m to ``origin`` (the robot's radius): the robot stands there, so nothing
+    does; such a point is an echo heard through a cone's edge and placed on its axis."""
     if len(points) == 0:
         return True
     d = points - origin
     c, s = math.cos(heading), math.sin(heading)
     along = d[:, 0] * c + d[:, 1] * s
     lateral = np.abs(-d[:, 0] * s + d[:, 1] * c)
-    return not bool(np.any((along > 0.0) & (along < length) & (lateral < half_width)))
+    outside = d[:, 0] ** 2 + d[:, 1] ** 2 >= body * body
+    return not bool(np.any((along > 0.0) & (along < length) & (lateral < half_width) & outside))
 
 
 # ----------------------------------------------------------------------------- commands
