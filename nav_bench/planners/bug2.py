@@ -7,14 +7,15 @@ The m-line is the segment from the start (the pose at :meth:`Bug2.reset`) to the
 
 * **Motion to goal**: turn toward the goal and drive. An echo in the corridor ahead closer
   than ``hit_distance`` is a *hit point* H; the robot starts following the obstacle.
-* **Boundary following**: keep the obstacle on ``wall_side`` at ``wall_distance`` with the
-  side and diagonal sonars (:class:`~nav_bench.planners.follow.WallFollower`).
+* **Boundary following**: keep the obstacle on ``wall_side`` at ``wall_distance``
+  (:class:`~nav_bench.planners.follow.WallFollower`: the tangent of the nearest echo on that
+  side, from a short memory of the side sonar's echoes).
 * **Leave**: when the robot crosses the m-line (or is within ``mline_tolerance`` of it) at
   a point closer to the goal than H by ``leave_margin``, and the way toward the goal is free
   (no sonar echo of the last ``memory_s`` s in a robot-wide corridor ``leave_clear`` m long),
   it resumes motion to goal.
-* **Unreachable**: if it comes back to H (within ``loop_radius``) after a lap, the goal
-  cannot be reached: it stops and emits an ``unreachable`` event.
+* **Unreachable**: if it comes back to H (within ``loop_radius``) after a lap round the
+  followed boundary (net turn toward ``wall_side``), the goal cannot be reached: it stops and emits an ``unreachable`` event.
 
 Every hit emits a ``replan`` event (the path changes from the m-line to the boundary).
 """
@@ -58,9 +59,9 @@ class Bug2(Planner):
               minimum=0.0),
         Param("wall_side", "right", "-", "side the obstacle is kept on while following it",
               choices=("left", "right")),
-        Param("wall_distance", 0.5, "m", "distance kept from the followed wall (robot centre)",
+        Param("wall_distance", 0.4, "m", "distance kept from the followed wall (robot centre)",
               minimum=0.0),
-        Param("front_distance", 0.5, "m", "while following, turn on the spot if an echo is this close ahead",
+        Param("front_distance", 0.45, "m", "while following, turn on the spot if an echo is this close ahead",
               minimum=0.0),
         Param("mline_tolerance", 0.1, "m", "distance from the m-line that counts as being on it",
               minimum=0.0),
@@ -85,7 +86,7 @@ class Bug2(Planner):
         self.side = LEFT if p.wall_side == "left" else RIGHT
         self.follower = WallFollower(self.side, p.wall_distance, p.v_max, p.front_distance)
         self.memory = EchoMemory(p.memory_s)
-        self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius)
+        self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius, side=self.side)
         self._prev_xy = self.start.copy()
         self._hits: list[list[float]] = []
 
@@ -111,6 +112,7 @@ class Bug2(Planner):
         p = self.settings
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         self.memory.add(obs)
+        self.follower.observe(obs)  # remember the boundary before following it
         to_goal = float(np.hypot(*(goal - xy)))
         heading = math.atan2(goal[1] - xy[1], goal[0] - xy[0])
         v = min(p.v_max, obs.robot.v_max)
@@ -133,7 +135,7 @@ class Bug2(Planner):
                 self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
             elif (self._on_mline(xy, goal) and to_goal < self.hit_goal_distance - p.leave_margin
                   and free_along(self.memory.points(xy, p.leave_clear + 1.0), xy, heading,
-                                 min(p.leave_clear, to_goal), half_width)):
+                                 min(p.leave_clear, to_goal), half_width, body=obs.robot.radius)):
                 self.mode = GO
                 self.loop.disarm()
                 cmd = steer(obs, heading, arrival_speed(to_goal, v))

@@ -60,20 +60,32 @@ def obstacle_ahead(obs: Observation, distance: float, half_width: float) -> floa
     return float(p[inside, 0].min()) if inside.any() else math.inf
 
 
+def front_obstacle(obs: Observation, distance: float, half_width: float, within: float) -> float:
+    """:func:`obstacle_ahead` seen by the sonars whose axis lies within ``within`` rad of the
+    heading only: a diagonal sonar's echo a few cm off a wall beside the robot lands inside the
+    corridor ahead, although the way ahead is open."""
+    p = robot_frame_hits(obs)[echo_mask(obs) & (np.abs(obs.robot.sonar.angles) <= within)]
+    inside = (p[:, 0] > 0.0) & (p[:, 0] < distance) & (np.abs(p[:, 1]) < half_width)
+    return float(p[inside, 0].min()) if inside.any() else math.inf
+
+
 def free_along(points: np.ndarray, origin: np.ndarray, heading: float, length: float,
-               half_width: float) -> bool:
+               half_width: float, body: float = 0.0) -> bool:
     """True if none of the world ``points`` (M, 2) lies in the rectangle starting at ``origin``
     (2,) along ``heading`` (rad) for ``length`` m, ``half_width`` m to each side.
 
     Points behind ``origin`` are ignored: a cone sonar's echo placed on its axis can sit
-    beside the robot although the surface it came from is farther away."""
+    beside the robot although the surface it came from is farther away. So are points closer
+    than ``body`` m to ``origin`` (the robot's radius): the robot stands there, so nothing
+    does; such a point is an echo heard through a cone's edge and placed on its axis."""
     if len(points) == 0:
         return True
     d = points - origin
     c, s = math.cos(heading), math.sin(heading)
     along = d[:, 0] * c + d[:, 1] * s
     lateral = np.abs(-d[:, 0] * s + d[:, 1] * c)
-    return not bool(np.any((along > 0.0) & (along < length) & (lateral < half_width)))
+    outside = d[:, 0] ** 2 + d[:, 1] ** 2 >= body * body
+    return not bool(np.any((along > 0.0) & (along < length) & (lateral < half_width) & outside))
 
 
 # ----------------------------------------------------------------------------- commands
@@ -181,55 +193,106 @@ def estimate_wall(obs: Observation, side: int, lost: float) -> WallEstimate | No
 
 
 class WallFollower:
-    """Keep a wall on one side at a set distance using only the sonars (a reactive follower).
+    """Keep an obstacle boundary on one side at a set distance (a reactive tangent follower on
+    a short memory of sonar echoes).
 
-    Rules, in order: (1) something close ahead (front corridor) -> turn on the spot away
-    from the wall side, or toward it while rounding a corner (the wall was fitted within the
-    last ``corner_cycles`` cycles and is gone: the opening is on that side);
-    (2) a wall fitted on the followed side (:func:`estimate_wall`) -> steer to make it
-    parallel at ``distance``; (3) no wall on that side (its end has passed) -> arc toward
-    that side with radius ``distance`` to round the corner.
+    Six sonar cones see a wall only in patches, and a straight-wall fit to the side sonars
+    breaks down at every corner, door and 1 m corridor (the opposite wall, the wall ahead and a
+    wall's end all enter the fit). The follower instead keeps the echoes of the last
+    ``memory_s`` seconds as world points (:class:`EchoMemory`) and steers along the tangent of
+    the *nearest* remembered point on the followed side, the boundary-following law of the
+    bug algorithms (Lumelsky & Stepanov 1987; Choset et al., Principles of Robot Motion,
+    2005, sec. 2.3): with that point at bearing ``beta`` and distance ``d``, the heading is
+    ``beta - side * pi/2`` (the point on ``side``), turned toward the point by
+    ``k_dist * (d - distance)`` (at most ``max_correction``). A wall's end stays the nearest
+    point while the robot passes it, so the robot rounds it at ``distance``; a wall ahead
+    becomes the nearest point as the robot nears it, so the robot turns away from it.
+
+    Only the side sonar (axis within 30 deg of 90 deg on ``side``) is remembered: its echo of a
+    wall beside the robot comes along its axis, where it is placed; a diagonal or front sonar
+    hears a wall at a slant through its cone's edge, up to half a cone off its axis, and such
+    points, remembered, drift into the way ahead as the robot turns. This cycle's echoes of all
+    the sonars on ``side`` count too. Points count when their bearing in the robot frame lies
+    between ``-ahead_margin`` (slightly toward the other side) and ``behind_limit`` on ``side``:
+    the opposite wall of a corridor is never followed, nor the wall just left behind at a
+    concave corner. An echo of the front sonars closer than ``front`` and not farther than the
+    nearest side point (by ``ahead_slack``) is a wall ahead: the robot turns on the spot away
+    from ``side``. When no point lies within ``distance + reach`` m, the boundary has ended out
+    of reach: the robot arcs toward ``side`` with radius ``distance`` to find it again.
 
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
-        distance: wall distance to hold, m from the robot centre.
+        distance: boundary distance to hold, m from the robot centre.
         speed: forward speed, m/s.
         front: clearance ahead (m from the centre) below which the robot turns on the spot.
-        k_dist: turn rate per metre of distance error, rad/s/m. k_angle: per rad of wall angle, 1/s.
-        corner_cycles: how long (control cycles) after losing the wall rule (1) turns toward it.
+        k_dist: heading correction per metre of distance error, rad/m.
+        memory_s: how long echoes are remembered, s.
+        reach: how far beyond ``distance`` (m) a remembered point still counts as the boundary.
     """
 
+    ahead_margin = math.radians(10.0)
+    max_correction = math.radians(60.0)
+    behind_limit = math.radians(135.0)
+    side_sonar_axis, side_sonar_window = math.pi / 2, math.radians(30.0)
+    front_sonars = math.radians(30.0)  # sonars this close to the heading watch the way ahead
+    ahead_slack = 0.1  # m: an echo ahead this much farther than the side's still counts as nearest
+
     def __init__(self, side: int, distance: float, speed: float, front: float,
-                 k_dist: float = 2.0, k_angle: float = 2.0, corner_cycles: int = 30) -> None:
+                 k_dist: float = 2.0, memory_s: float = 3.0, reach: float = 0.6) -> None:
         if side not in (LEFT, RIGHT):
             raise InputError(f"wall follower side must be LEFT (+1) or RIGHT (-1), got {side!r}")
         self.side, self.distance, self.speed, self.front = side, distance, speed, front
-        self.k_dist, self.k_angle = k_dist, k_angle
-        self.corner_cycles = corner_cycles
-        self._since_wall = corner_cycles + 1  # control cycles since a wall was last fitted
+        self.k_dist, self.reach = k_dist, reach
+        self.memory = EchoMemory(memory_s)
+        self._seen_t = -math.inf  # time of the last cycle remembered
 
     def start(self) -> None:
-        """Begin following a new boundary (forget the last wall seen)."""
-        self._since_wall = self.corner_cycles + 1
+        """Begin following a new boundary (the echoes seen so far stay: they are still there)."""
+
+    def observe(self, obs: Observation) -> None:
+        """Remember this cycle's echoes, once per cycle (:meth:`act` calls it; a planner calls it
+        in the cycles it does not follow, so the memory has no gap when following starts)."""
+        if obs.t > self._seen_t:
+            self.memory.add(obs, np.abs(self.side * obs.robot.sonar.angles - self.side_sonar_axis) <= self.side_sonar_window)
+            self._seen_t = obs.t
+
+    def nearest(self, obs: Observation) -> tuple[float, float] | None:
+        """(distance m, world bearing rad) of the nearest echo on the followed side within
+        ``distance + reach`` m, among the remembered side-sonar echoes and this cycle's echoes
+        of every sonar on that side (a diagonal sonar sees a door jamb's end before the side
+        sonar does; its axis placement is off by up to half a cone, too much to remember, but
+        right enough now); ``None`` if there is none."""
+        xy = np.asarray(obs.pose[:2], dtype=float)
+        now = obs.sonar_hits()[echo_mask(obs) & (self.side * obs.robot.sonar.angles > 0.0)]
+        pts = np.concatenate([self.memory.points(xy, self.distance + self.reach), now])
+        if len(pts) == 0:
+            return None
+        d = pts - xy
+        bearing = np.arctan2(d[:, 1], d[:, 0])
+        rel = self.side * np.remainder(bearing - float(obs.pose[2]) + math.pi, 2 * math.pi) - self.side * math.pi
+        on_side = (rel >= -self.ahead_margin) & (rel <= self.behind_limit)
+        if not on_side.any():
+            return None
+        dist = np.hypot(d[:, 0], d[:, 1])
+        i = int(np.argmin(np.where(on_side, dist, np.inf)))
+        return float(dist[i]), float(bearing[i])
 
     def act(self, obs: Observation) -> Command:
         robot = obs.robot
-        s = self.side
-        half_width = corridor_half_width(robot)
-        wall = estimate_wall(obs, s, lost=self.distance + 0.6)
-        self._since_wall = 0 if wall is not None else self._since_wall + 1
-        if obstacle_ahead(obs, self.front, half_width) < self.front:
-            # rounding a corner that just ended on our side: the open side is the wall side
-            rounding = 0 < self._since_wall <= self.corner_cycles
-            return limit(0.0, (s if rounding else -s) * 0.6 * robot.omega_max, robot)
+        self.observe(obs)
         v = min(self.speed, robot.v_max)
-        if wall is None:  # the wall ended: round its end
-            radius = max(self.distance, 1e-3)
-            return limit(0.6 * v, s * 0.6 * v / radius, robot)
-        err = max(-0.5, min(0.5, wall.distance - self.distance))
-        omega = s * self.k_dist * err + self.k_angle * wall.angle
-        v *= max(0.25, 1.0 - abs(omega) / robot.omega_max)
-        return limit(v, omega, robot)
+        near = self.nearest(obs)
+        ahead = front_obstacle(obs, self.front, corridor_half_width(robot), self.front_sonars)
+        if ahead < self.front and (near is None or ahead <= near[0] + self.ahead_slack):
+            # the nearest boundary is straight ahead: its tangent is a right angle away from
+            # the side; turn on the spot until the way ahead is clear
+            return limit(0.0, -self.side * 0.6 * robot.omega_max, robot)
+        if near is None:  # the boundary ended out of reach: arc round toward it
+            return limit(0.6 * v, self.side * 0.6 * v / max(self.distance, 1e-3), robot)
+        dist, bearing = near
+        correction = max(-self.max_correction, min(self.max_correction, self.k_dist * (dist - self.distance)))
+        heading = bearing - self.side * math.pi / 2 + self.side * correction
+        return steer(obs, heading, 0.0 if ahead < self.front else v)
 
 
 # ----------------------------------------------------------------------------- echo memory
@@ -269,9 +332,10 @@ class EchoMemory:
     def _t(self) -> np.ndarray:
         return self._buf_t[self._lo:self._hi]
 
-    def add(self, obs: Observation) -> None:
-        """Store this cycle's echoes and forget those older than the horizon."""
-        pts = world_echoes(obs)
+    def add(self, obs: Observation, sonars: np.ndarray | None = None) -> None:
+        """Store this cycle's echoes (of the sonars where ``sonars`` (K,) bool is True, default
+        all) and forget those older than the horizon."""
+        pts = world_echoes(obs) if sonars is None else obs.sonar_hits()[echo_mask(obs) & sonars]
         now = obs.t
         cut = now - self.horizon
         lo, hi = self._lo, self._hi
@@ -324,10 +388,19 @@ class LoopDetector:
     turned by at least ``min_turn`` rad in net (one way). A lap around a boundary, from
     outside or inside, turns the robot by 2 pi in net; a follower that lost the wall and came
     back the way it went turned by about pi, and is not on a lap.
+
+    With ``side`` (LEFT/RIGHT, the side the boundary is kept on) the net turn must also be
+    toward that side: a lap *round* an obstacle kept on the right turns the robot clockwise.
+    A follower that spun on the spot or drifted round a pocket of free space turned the other
+    way and is not on a lap round anything it could follow. (The lap inside a closed room,
+    also the other way, is then not detected: the goal is outside, and the robot keeps going
+    round until its time is up.)
     """
 
-    def __init__(self, radius: float, min_length: float, min_turn: float = 1.5 * math.pi) -> None:
+    def __init__(self, radius: float, min_length: float, min_turn: float = 1.5 * math.pi,
+                 side: int | None = None) -> None:
         self.radius, self.min_length, self.min_turn = radius, min_length, min_turn
+        self.side = side
         self.origin: np.ndarray | None = None
         self._left = False
         self._travel = 0.0
@@ -356,5 +429,5 @@ class LoopDetector:
         d = float(np.hypot(*(xy - self.origin)))
         if d > 2 * self.radius:
             self._left = True
-        return (self._left and d < self.radius and self._travel >= self.min_length
-                and abs(self._turn) >= self.min_turn)
+        turn = abs(self._turn) if self.side is None else self.side * self._turn
+        return self._left and d < self.radius and self._travel >= self.min_length and turn >= self.min_turn

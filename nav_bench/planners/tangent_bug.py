@@ -21,17 +21,19 @@ less than TangentBug assumes, which is the point of comparing it on this robot.
   for ``stall_cycles`` cycles in which the robot moved (it *stops decreasing*), boundary following starts in the
   direction of that endpoint. (Also, as a safety reflex, when an echo lies in the corridor
   ahead closer than ``front_distance``: the sparse sonars can miss an obstacle between cones.)
-* **Boundary following**: approach the boundary (head for the nearest remembered echo until
-  a wall is fitted on the chosen side within ``wall_distance + 0.1`` m or something is
-  closer ahead than ``front_distance``), then keep it at
-  ``wall_distance`` on that side with the sonar wall follower. ``d_followed`` is the
+* **Boundary following**: approach the boundary that blocks the way (head for the nearer of
+  its points in the goal direction and at the chosen endpoint's edge, or for the nearest
+  echo when following began for an echo ahead, until the follower's nearest point on the chosen side
+  is within ``wall_distance + 0.15`` m or something is closer ahead than ``front_distance``),
+  then keep it at ``wall_distance`` on that side with the sonar wall follower (one per side,
+  both remembering echoes every cycle). ``d_followed`` is the
   smallest goal distance of the near echoes (within ``wall_distance + 0.6`` m) seen ahead
   and on the followed side since following began;
   ``d_reach`` is the goal distance of the farthest free point toward the goal
   (``d_goal - min(free length, d_goal)`` from the range function, evaluated only when the
   goal direction lies within the sonars' field of view). Leave when ``d_reach < d_followed - leave_margin``.
-* **Unreachable**: back where following began (``loop_radius``) after a lap -> stop and emit
-  ``unreachable``.
+* **Unreachable**: back where following began (``loop_radius``) after a lap round the
+  followed boundary (net turn toward the followed side) -> stop and emit ``unreachable``.
 
 Each switch to boundary following emits a ``replan`` event.
 
@@ -67,7 +69,6 @@ from nav_bench.planners.follow import (
     arrival_speed,
     corridor_half_width,
     echo_mask,
-    estimate_wall,
     obstacle_ahead,
     steer,
 )
@@ -191,9 +192,9 @@ class TangentBug(Planner):
         Param("h_epsilon", 0.05, "m", "the heuristic must beat its minimum by this to count as decreasing",
               minimum=0.0),
         Param("stall_cycles", 5, "cycles", "cycles without a decrease before boundary following", minimum=1),
-        Param("front_distance", 0.5, "m", "echo this close ahead (from the centre) forces boundary following",
+        Param("front_distance", 0.45, "m", "echo this close ahead (from the centre) forces boundary following",
               minimum=0.0),
-        Param("wall_distance", 0.5, "m", "distance kept from the followed boundary (robot centre)",
+        Param("wall_distance", 0.4, "m", "distance kept from the followed boundary (robot centre)",
               minimum=0.0),
         Param("leave_margin", 0.1, "m", "leave when d_reach < d_followed - leave_margin", minimum=0.0),
         Param("loop_radius", 0.4, "m", "back within this of where following began after a lap = unreachable",
@@ -209,7 +210,12 @@ class TangentBug(Planner):
         self.stall = 0
         self.side = RIGHT
         self.follower: WallFollower | None = None
+        # one follower per side, both watching every cycle: the one that takes over already
+        # remembers the boundary it is to follow
+        self.followers = {side: WallFollower(side, p.wall_distance, p.v_max, p.front_distance)
+                          for side in (LEFT, RIGHT)}
         self.acquired = False
+        self._blocking: np.ndarray | None = None  # where the approach to a boundary heads
         self.d_followed = math.inf
         self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius)
         self.bins = range_bins(p.directions)
@@ -238,8 +244,9 @@ class TangentBug(Planner):
         return rho_goal, min(d_goal, self._sensing_range(obs), rho_goal)
 
     def _endpoints(self, obs: Observation, xy: np.ndarray, goal: np.ndarray, d_goal: float, theta_g: float
-                   ) -> tuple[bool, list[tuple[float, float, int]]]:
-        """(goal direction free?, endpoints as (heading rad, h m, side to keep the obstacle on)).
+                   ) -> tuple[bool, list[tuple[float, float, int, np.ndarray]]]:
+        """(goal direction free?, endpoints as (heading rad, h m, side to keep the obstacle on,
+        (2,) the blocking obstacle's point at that edge, world m)).
         Motion to goal only: boundary following needs no endpoints, so never pays for the
         binned range function."""
         r_sense = self._sensing_range(obs)
@@ -260,15 +267,21 @@ class TangentBug(Planner):
             heading = float(self.bins[k_free])
             dist = min(float(rho[k_edge]), r_sense)
             o = xy + dist * np.array([math.cos(heading), math.sin(heading)])
-            out.append((heading, dist + float(np.hypot(*(goal - o))), side))
+            edge = float(self.bins[k_edge])
+            blocking = xy + dist * np.array([math.cos(edge), math.sin(edge)])
+            out.append((heading, dist + float(np.hypot(*(goal - o))), side, blocking))
         return False, out
 
     # -- control -----------------------------------------------------------------------------------
-    def _start_following(self, obs: Observation, xy: np.ndarray, side: int) -> None:
-        p = self.settings
+    def _start_following(self, obs: Observation, xy: np.ndarray, side: int,
+                         blocking: np.ndarray | None = None) -> None:
+        """Follow the boundary on ``side``; first approach ``blocking`` (world m), the obstacle
+        that blocks the way to the goal (``None``: the nearest remembered echo)."""
         self.mode, self.side, self.acquired = FOLLOW, side, False
-        self.follower = WallFollower(side, p.wall_distance, p.v_max, p.front_distance)
+        self._blocking = blocking
+        self.follower = self.followers[side]
         self.d_followed = math.inf
+        self.loop.side = side
         self.loop.arm(xy, float(obs.pose[2]))
         self._follow_starts.append([float(xy[0]), float(xy[1])])
         self.emit("replan", obs.t, reason="follow_boundary", side="left" if side == LEFT else "right")
@@ -277,6 +290,8 @@ class TangentBug(Planner):
         p = self.settings
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         self.memory.add(obs)
+        for follower in self.followers.values():
+            follower.observe(obs)
         self._polar_echoes = None  # the memory and the position changed
         v = min(p.v_max, obs.robot.v_max)
         d_goal = float(np.hypot(*(goal - xy)))
@@ -300,7 +315,7 @@ class TangentBug(Planner):
         if not endpoints:  # enclosed in every direction within range
             self._start_following(obs, xy, self.side)
             return self._follow(obs, xy, goal, d_goal, theta_g, v)
-        heading, h, side = min(endpoints, key=lambda e: e[1])
+        heading, h, side, edge_point = min(endpoints, key=lambda e: e[1])
         if self._endpoint is None:  # the goal just got blocked: h starts afresh
             self.h_min, self.stall = math.inf, 0
         self._endpoint = [heading, h]
@@ -309,7 +324,12 @@ class TangentBug(Planner):
         elif moved > 0.01:  # h_min is not lowered here, so a slow steady decrease still counts;
             self.stall += 1  # turning on the spot toward an endpoint is not a stall
         if self.stall >= p.stall_cycles or ahead < p.front_distance:
-            self._start_following(obs, xy, side)
+            # the obstacle to follow blocks the way to the goal: the nearer of its point in the
+            # goal direction and its point at the chosen endpoint's edge
+            rho_goal = self._free_length(obs, xy, d_goal, theta_g)[0]
+            across = xy + rho_goal * np.array([math.cos(theta_g), math.sin(theta_g)])
+            blocking = min((across, edge_point), key=lambda q: float(np.hypot(*(q - xy))))
+            self._start_following(obs, xy, side, None if ahead < p.front_distance else blocking)
             return self._follow(obs, xy, goal, d_goal, theta_g, v)
         return steer(obs, heading, v)
 
@@ -338,16 +358,30 @@ class TangentBug(Planner):
                     self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
                     self.loop.disarm()
                     return steer(obs, theta_g, arrival_speed(d_goal, v))
-        if not self.acquired:  # first approach the boundary: head for the nearest echo
-            wall = estimate_wall(obs, self.side, lost=p.wall_distance + 0.6)
-            close = wall is not None and wall.distance <= p.wall_distance + 0.1
-            near = obstacle_ahead(obs, p.front_distance, corridor_half_width(obs.robot)) < p.front_distance
-            self.acquired = close or near or len(self._polar(obs, xy).points) == 0
-            if not self.acquired:
-                e = self._polar(obs, xy)
-                nearest = e.points[int(np.argmin(e.raw))]
-                return steer(obs, math.atan2(nearest[1] - xy[1], nearest[0] - xy[0]), v)
+        if not self.acquired:  # first approach the boundary that blocks the way
+            return self._approach(obs, xy, v) or self.follower.act(obs)
         return self.follower.act(obs)
+
+    def _approach(self, obs: Observation, xy: np.ndarray, v: float) -> Command | None:
+        """Head for the blocking obstacle's point (or the nearest remembered echo) until the
+        boundary is within ``wall_distance + 0.15`` m on the followed side or closer than
+        ``front_distance`` ahead; then (or with nothing to head for) mark it acquired and
+        return ``None``. Heading for the *nearest* echo made the robot follow whatever stood
+        closest (a box beside it) instead of the wall across the way to the goal, and lap it."""
+        p = self.settings
+        assert self.follower is not None
+        target = self._blocking
+        if target is None:
+            e = self._polar(obs, xy)
+            target = e.points[int(np.argmin(e.raw))] if len(e.points) else None
+        side_point = self.follower.nearest(obs)
+        close = side_point is not None and side_point[0] <= p.wall_distance + 0.15
+        near = obstacle_ahead(obs, p.front_distance, corridor_half_width(obs.robot)) < p.front_distance
+        self.acquired = (target is None or close or near
+                         or float(np.hypot(*(target - xy))) <= p.wall_distance + 0.1)
+        if self.acquired:
+            return None
+        return steer(obs, math.atan2(target[1] - xy[1], target[0] - xy[0]), v)
 
     def debug_state(self) -> dict[str, Any]:
         """``mode``, ``memory`` (M, 2) remembered echoes, ``follow_starts`` [[x, y], ...] where

@@ -92,3 +92,19 @@ def test_wall_fit_accounts_for_the_cone_width(yaw_deg: float) -> None:
     assert wall.distance == pytest.approx(0.5, abs=0.01)
     assert math.degrees(wall.angle) == pytest.approx(-yaw_deg, abs=1.0)
     assert estimate_wall(obs, RIGHT, lost=1.1) is None  # nothing within reach on the right
+
+
+@pytest.mark.slow
+def test_reaches_the_goal_through_a_generated_maze_in_the_simulator() -> None:
+    """Issue 12: a backtracker maze of 1 m corridors (``nav-bench generate maze --seed 3``),
+    where Bug2 timed out on main (78d21c7: its straight-wall fit lost the wall at every
+    junction and it shuttled in the first corridors); the follower now keeps the wall."""
+    from nav_bench.episode.loop import run_episode
+    from nav_bench.specs import PlannerSetSpec
+    from nav_bench.world.generate import generate_world
+    from nav_bench.world.load import world_from_data
+
+    world = world_from_data(generate_world("maze", 3))
+    result = run_episode(world, PlannerSetSpec(planner="bug2"), seed=0)
+    assert result.row.outcome == "reached", result.row
+    assert result.row.collisions == 0

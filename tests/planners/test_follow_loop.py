@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from nav_bench.planners.follow import LoopDetector
+from nav_bench.planners.follow import LEFT, RIGHT, LoopDetector
 
 
 def feed(detector: LoopDetector, xy: np.ndarray, yaw: np.ndarray) -> int | None:
@@ -50,3 +50,18 @@ def test_a_small_circle_in_place_of_the_wall_is_not_a_lap_before_min_length():
     s = np.linspace(0.0, 2 * math.pi, 101)
     xy = 0.2 * np.stack([np.cos(s), np.sin(s)], axis=1)
     assert feed(LoopDetector(radius=0.1, min_length=1.6), xy, s + math.pi / 2) is None
+
+
+def test_with_a_side_only_a_lap_turning_toward_that_side_fires():
+    # counter-clockwise round a 1 m circle: the circle's inside is on the robot's left
+    s = np.linspace(0.0, 2.2 * math.pi, 221)
+    xy = np.stack([np.cos(s), np.sin(s)], axis=1)
+    assert feed(LoopDetector(radius=0.4, min_length=1.6, side=LEFT), xy, s + math.pi / 2) is not None
+    # a follower keeping its boundary on the right that drove this lap went round free space
+    # (a pocket, or spinning on the spot), not round anything it followed
+    assert feed(LoopDetector(radius=0.4, min_length=1.6, side=RIGHT), xy, s + math.pi / 2) is None
+    # clockwise round it, the circle's inside on the right
+    cw = np.linspace(0.0, -2.2 * math.pi, 221)
+    xy_cw = np.stack([np.cos(cw), np.sin(cw)], axis=1)
+    assert feed(LoopDetector(radius=0.4, min_length=1.6, side=RIGHT), xy_cw, cw - math.pi / 2) is not None
+    assert feed(LoopDetector(radius=0.4, min_length=1.6, side=LEFT), xy_cw, cw - math.pi / 2) is None

@@ -149,10 +149,11 @@ def test_echo_memory_keeps_the_points_the_plain_one_keeps(horizon: float, capaci
 def replay_commands(name: str, planner: Planner) -> tuple[np.ndarray, np.ndarray]:
     """Feed the observations recorded in ``tests/data/planner_replay/<name>.npz`` to
     ``planner``; its commands (N, 2) and the recorded ones. The files are real PyBullet
-    episodes (seed 0) played with main's code at f4bd289, before issue 16's TangentBug
-    speed-ups, written by ``benchmarks/bench_tangent_bug.py --record``; the very-complex one was
-    recorded again after the lap rule changed (a lap needs a net turn, merge 2a41606), which
-    changed when its unreachable ending comes."""
+    episodes (seed 0) written by ``benchmarks/bench_tangent_bug.py --record``; the DWA one with
+    main's code at f4bd289, before issue 16's speed-ups; the TangentBug and Bug2 ones again on
+    branch s6follow (issue 12's wall follower changed their commands: ``--record DIR
+    --planners tangent_bug --worlds clutter_40m,concave_trap,labyrinth,very_complex --time-s
+    60`` and ``--planners bug2 --worlds very_complex --time-s 40``)."""
     with np.load(REPLAY / f"{name}.npz") as stored:
         rec = {key: stored[key] for key in stored.files}  # read once: an NpzFile inflates per access
     sonar = SonarInfo(angles=rec["sonar_angles"], offsets=rec["sonar_offsets"], cone=float(rec["sonar_cone"]),
@@ -177,9 +178,9 @@ def replay_commands(name: str, planner: Planner) -> tuple[np.ndarray, np.ndarray
 def test_replayed_episode_gives_the_recorded_commands_bit_for_bit(name: str) -> None:
     """The per-cycle polar view, the binned range function, no endpoints while following and
     the buffered echo memory change no command (==) of a recorded episode: TangentBug's cover
-    motion to goal with the goal blocked (84 cycles of the binned range function), boundary
-    following (37 switches to it) and back, and the unreachable ending, with memories of up to 486
-    echoes; Bug2 and DWA share the echo memory."""
+    motion to goal with the goal blocked (169 cycles of the binned range function), boundary
+    following (58 switches to it) and back, and the unreachable ending, with memories of 400-460
+    echoes at the end; Bug2 and DWA share the echo memory."""
     kind = next(k for k in ("tangent_bug", "bug2", "dwa") if name.startswith(k))
     planner = {"tangent_bug": TangentBug, "bug2": Bug2, "dwa": DWA}[kind]()
     got, want = replay_commands(name, planner)
