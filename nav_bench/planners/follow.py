@@ -9,7 +9,6 @@ Units: metres, seconds, radians.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -147,51 +146,6 @@ def pure_pursuit(obs: Observation, path: np.ndarray, lookahead: float, v_des: fl
 
 
 # ----------------------------------------------------------------------------- wall following
-@dataclass(frozen=True)
-class WallEstimate:
-    """A wall seen by one side's sonars, in the robot frame.
-
-    Attributes:
-        distance: perpendicular distance from the robot centre to the wall line, m.
-        angle: direction of the wall relative to the robot heading, rad; 0 = parallel,
-            negative (wall on the left) / positive (wall on the right) = converging.
-    """
-
-    distance: float
-    angle: float
-
-
-def estimate_wall(obs: Observation, side: int, lost: float) -> WallEstimate | None:
-    """Fit a straight wall to the readings of the sonars on ``side`` (LEFT/RIGHT) between 30
-    and 120 deg from the heading (on the default ring: the 45 and 90 deg sonars).
-
-    A cone sonar returns the *shortest* range within its cone, i.e. along the ray closest to
-    the wall's normal, not along its axis. For a candidate normal direction ``a`` the ray is
-    the axis clamped to the cone around ``a``; range ``r`` then means the wall lies at
-    ``d = r cos(ray - a) + offset . n``. The normal direction whose distances agree best
-    across the sonars is kept (1 deg grid search). With one sonar the wall is assumed
-    parallel. Readings beyond ``lost`` m are ignored; ``None`` if none is left.
-    """
-    s = obs.robot.sonar
-    rel = side * s.angles
-    pick = (rel > math.radians(30)) & (rel < math.radians(120)) & echo_mask(obs)
-    pick &= np.asarray(obs.ranges) < lost
-    if not pick.any():
-        return None
-    ang, off, rng = s.angles[pick], s.offsets[pick], np.asarray(obs.ranges, dtype=float)[pick]
-    half = s.cone / 2
-    if len(rng) == 1:
-        normals = np.array([side * math.pi / 2])
-    else:
-        normals = side * np.radians(np.arange(20.0, 161.0))  # wall normal candidates
-    ray = np.clip(normals[:, None], ang[None, :] - half, ang[None, :] + half)  # (C, k)
-    d = rng[None, :] * np.cos(ray - normals[:, None]) + (
-        off[None, :, 0] * np.cos(normals[:, None]) + off[None, :, 1] * np.sin(normals[:, None]))
-    best = int(np.argmin(d.max(axis=1) - d.min(axis=1)))
-    normal = float(normals[best])
-    return WallEstimate(distance=float(d[best].mean()), angle=wrap_angle(normal - side * math.pi / 2))
-
-
 class WallFollower:
     """Keep an obstacle boundary on one side at a set distance (a reactive tangent follower on
     a short memory of sonar echoes).

@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 from nav_bench.planners.bug2 import FOLLOW, GO, UNREACHABLE, Bug2
-from nav_bench.planners.follow import LEFT, RIGHT, estimate_wall
 from nav_bench.testing.harness import BoxWorld, default_robot, observe, run, u_world, wall_world
 
 
@@ -78,20 +77,6 @@ def test_mode_switches_at_the_hit_distance() -> None:
     near = observe(world, np.array([2.5, 2.0, 0.0]), np.array([5.0, 2.0]), robot, 0.1, 0.1)
     cmd = bug.act(near)  # 0.5 m < hit_distance 0.55: follow the wall, turning left first
     assert bug.mode == FOLLOW and cmd.v == 0.0 and cmd.omega > 0
-
-
-@pytest.mark.parametrize("yaw_deg", [0.0, 10.0, -10.0, 25.0])
-def test_wall_fit_accounts_for_the_cone_width(yaw_deg: float) -> None:
-    """A cone sonar reports the nearest point in its cone, not the one on its axis; the fit
-    recovers the true distance (0.5 m) and the angle (negative = converging on the left)."""
-    world = BoxWorld.room((6.0, 4.0), [(0.0, 2.5, 6.0, 2.7)])  # wall face 0.5 m left of (3, 2)
-    obs = observe(world, np.array([3.0, 2.0, math.radians(yaw_deg)]), np.array([5.0, 2.0]),
-                  default_robot(), 0.0, 0.1, rays=7)
-    wall = estimate_wall(obs, LEFT, lost=1.1)
-    assert wall is not None
-    assert wall.distance == pytest.approx(0.5, abs=0.01)
-    assert math.degrees(wall.angle) == pytest.approx(-yaw_deg, abs=1.0)
-    assert estimate_wall(obs, RIGHT, lost=1.1) is None  # nothing within reach on the right
 
 
 @pytest.mark.slow
