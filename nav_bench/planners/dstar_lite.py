@@ -89,7 +89,7 @@ from nav_bench.planners.footprint import (
     SquareClearance,
     cell_parts,
     guard,
-    seen_through,
+    seen_through_cells,
 )
 from nav_bench.planners.recovery import ProgressWatch, Recovery, RecoveryPhase, RecoverySettings
 
@@ -992,6 +992,7 @@ class DStarLite(Planner):
         self._carved_t = np.full(parts, -INF, dtype=np.float32)  # when each part was last known free
         self._seen_t = np.full(parts, -INF, dtype=np.float32)  # when a sonar last saw through it
         self._seen_view = np.full(parts, -1, dtype=np.int32)  # from which view (see _local_clearance)
+        self._carve_noted = np.zeros(self.shape, dtype=bool)  # cells whose three records above may be set
         self._view, self._view_pose = 0, np.asarray(obs.pose, dtype=float).copy()
         self._last_pose: np.ndarray | None = None
         self._last_t = obs.t
@@ -1126,15 +1127,20 @@ class DStarLite(Planner):
         window = self.occupied[a0:a1, b0:b1]
         carved = self._carved_t[a0:a1, b0:b1]
         last_t, last_view = self._seen_t[a0:a1, b0:b1], self._seen_view[a0:a1, b0:b1]
-        carved[~window] = -INF  # a cell the grid frees forgets its carving
-        last_t[~window] = -INF
-        last_view[~window] = -1
+        noted = self._carve_noted[a0:a1, b0:b1]
+        forget = noted & ~window  # a cell the grid frees forgets its carving (others hold none)
+        if forget.any():
+            carved[forget] = -INF
+            last_t[forget] = -INF
+            last_view[forget] = -1
+            noted[forget] = False
         rr, cc = np.nonzero(window)
-        parts = cell_parts(self.grid.cell_center(rr + a0, cc + b0).reshape(-1, 2), cell)
+        noted[rr, cc] = True
+        centres = self.grid.cell_center(rr + a0, cc + b0).reshape(-1, 2)
+        parts = cell_parts(centres, cell)
         times, seen_at, views = carved[rr, cc], last_t[rr, cc], last_view[rr, cc]  # copies, (M, CARVE_SUB ** 2)
         flat = parts.reshape(-1, 2)
-        seen = seen_through(flat, cell / CARVE_SUB, [(pose, np.asarray(obs.ranges, dtype=float))],
-                            obs.robot.sonar).reshape(times.shape)
+        seen = seen_through_cells(centres, cell, pose, np.asarray(obs.ranges, dtype=float), obs.robot.sonar)
         confirmed = seen & (views >= 0) & (views != self._view) & (seen_at >= obs.t - CARVE_MEMORY_S)
         times[confirmed] = obs.t
         seen_at[seen] = obs.t
