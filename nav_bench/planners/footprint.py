@@ -324,9 +324,9 @@ def echo_arcs(obs: Observation) -> np.ndarray:
     r = np.asarray(obs.ranges, dtype=float)[mask]
     ang = s.angles[mask][:, None] + _arc_spread(float(s.cone))[None, :]
     off = s.offsets[mask][:, None, :]
-    unit = np.empty((*ang.shape, 2))
-    np.cos(ang, out=unit[:, :, 0])
-    np.sin(ang, out=unit[:, :, 1])
+    unit = np.empty((*ang.shape, 2))  # (the cosines and sines computed on contiguous arrays,
+    unit[:, :, 0] = np.cos(ang)  # as np.stack had them: a strided output may take another loop)
+    unit[:, :, 1] = np.sin(ang)
     return off + r[:, None, None] * unit
 
 
