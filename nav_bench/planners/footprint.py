@@ -128,6 +128,8 @@ class PointObstacles:
             if self._tree is None:
                 self._tree = cKDTree(self.centres)
             return self._tree.query(xy, distance_upper_bound=bound)[0]
+        if len(xy) == 0:
+            return np.zeros(0)
         reach = bound + 1e-9  # centres farther along x or y than this are beyond the bound
         near = ((cx >= xy[:, 0].min() - reach) & (cx <= xy[:, 0].max() + reach)
                 & (cy >= xy[:, 1].min() - reach) & (cy <= xy[:, 1].max() + reach))

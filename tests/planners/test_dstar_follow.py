@@ -233,6 +233,7 @@ def test_point_obstacles_match_a_k_d_tree_bit_for_bit() -> None:
     many = rng.uniform(0.0, 3.0, (300, 2))  # a query too large for point by point: the tree
     big = PointObstacles(centres, 0.01, 0.44, (0.0, 0.0, 3.0, 3.0))
     assert np.array_equal(big(many), np.concatenate([big(many[i:i + 20]) for i in range(0, 300, 20)]))
+    assert big(np.zeros((0, 2))).shape == (0,)
 
 
 # --------------------------------------------------------------------------- progress and recovery
