@@ -37,6 +37,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -92,25 +93,53 @@ class PointObstacles:
     ``cap``; points outside ``bounds`` (x0, y0, x1, y1) get 0. Each square counts as the disc
     round it (radius ``half * sqrt 2``): at most 0.6 cm conservative with 2 cm squares.
 
+    A guard asks a few dozen points a cycle of a few hundred squares, and a new set of squares
+    every cycle: every point against every square near it (``sqrt(dx*dx + dy*dy)``, the sum a
+    k-d tree makes, so the distances are the same bit for bit) is cheaper than building a tree;
+    one is built only for a large query.
+
     Args:
         centres: (M, 2) square centres, m.
     """
+
+    BRUTE_PAIRS = 40000  # point-square pairs up to which distances are computed directly
 
     def __init__(self, centres: np.ndarray, half: float, cap: float,
                  bounds: tuple[float, float, float, float]) -> None:
         self.centres = np.asarray(centres, dtype=float).reshape(-1, 2)
         self.radius, self.cap, self.bounds = half * math.sqrt(2.0), cap, bounds
-        self._tree = cKDTree(self.centres) if len(self.centres) else None
+        self._cx, self._cy = self.centres[:, 0], self.centres[:, 1]
+        self._tree: cKDTree | None = None
 
     def __call__(self, xy: np.ndarray) -> np.ndarray:
         xy = np.asarray(xy, dtype=float).reshape(-1, 2)
         x0, y0, x1, y1 = self.bounds
         inside = (xy[:, 0] >= x0) & (xy[:, 0] < x1) & (xy[:, 1] >= y0) & (xy[:, 1] < y1)
-        if self._tree is None:
+        if len(self.centres) == 0:
             return np.where(inside, self.cap, 0.0)
-        d, _ = self._tree.query(xy, distance_upper_bound=self.cap + self.radius)
+        d = self._nearest(xy, self.cap + self.radius)
         d = np.minimum(np.maximum(d - self.radius, 0.0), self.cap)
         return np.where(inside, d, 0.0)
+
+    def _nearest(self, xy: np.ndarray, bound: float) -> np.ndarray:
+        """(N,) distance (m) from each point to the nearest centre, ``inf`` beyond ``bound``."""
+        cx, cy = self._cx, self._cy
+        if len(xy) * len(cx) > self.BRUTE_PAIRS:
+            if self._tree is None:
+                self._tree = cKDTree(self.centres)
+            return self._tree.query(xy, distance_upper_bound=bound)[0]
+        if len(xy) == 0:
+            return np.zeros(0)
+        reach = bound + 1e-9  # centres farther along x or y than this are beyond the bound
+        near = ((cx >= xy[:, 0].min() - reach) & (cx <= xy[:, 0].max() + reach)
+                & (cy >= xy[:, 1].min() - reach) & (cy <= xy[:, 1].max() + reach))
+        if not near.any():
+            return np.full(len(xy), math.inf)
+        dx = xy[:, 0, None] - cx[near][None, :]
+        dy = xy[:, 1, None] - cy[near][None, :]
+        d2 = (dx * dx + dy * dy).min(axis=1)
+        d2[d2 >= bound * bound] = math.inf  # as the tree compares: squared, the bound excluded
+        return np.sqrt(d2)
 
 
 CARVE_SUB = 5  # an occupied cell is checked as CARVE_SUB x CARVE_SUB small squares
@@ -121,9 +150,18 @@ def cell_parts(centres: np.ndarray, cell: float) -> np.ndarray:
     """(M, CARVE_SUB ** 2, 2) centres of the small squares (side ``cell / CARVE_SUB``) the cells
     centred at ``centres`` (M, 2), side ``cell``, are checked as, m."""
     c = np.asarray(centres, dtype=float).reshape(-1, 2)
+    return c[:, None, :] + _part_offsets(float(cell))[None, :, :]
+
+
+@lru_cache(maxsize=8)
+def _part_offsets(cell: float) -> np.ndarray:
+    """(CARVE_SUB ** 2, 2) offsets (m) of a cell's small squares from its centre (read-only;
+    the same every cycle, so computed once per cell size)."""
     offs = ((np.arange(CARVE_SUB) + 0.5) / CARVE_SUB - 0.5) * cell
     ox, oy = np.meshgrid(offs, offs)
-    return c[:, None, :] + np.stack([ox.ravel(), oy.ravel()], axis=1)[None, :, :]
+    table = np.stack([ox.ravel(), oy.ravel()], axis=1)
+    table.flags.writeable = False
+    return table
 
 
 def seen_through(points: np.ndarray, part: float, readings: list[tuple[np.ndarray, np.ndarray]],
@@ -157,6 +195,43 @@ def seen_through(points: np.ndarray, part: float, readings: list[tuple[np.ndarra
         if body > 0.0:
             free |= np.hypot(q[:, 0] - x, q[:, 1] - y) <= body
     return free
+
+
+def seen_through_cells(centres: np.ndarray, cell: float, pose: np.ndarray, ranges: np.ndarray,
+                       sonar: SonarInfo) -> np.ndarray:
+    """(M, CARVE_SUB ** 2) bool: :func:`seen_through` of the parts (:func:`cell_parts`) of the
+    cells centred at ``centres`` (M, 2), side ``cell``, m, for one reading (``pose``, ``ranges``),
+    the same values bit for bit, computed only for the cells that may have a part seen through.
+
+    A cell is skipped when, for every sonar, its parts all lie farther than the range allows
+    (the part nearest the mount is at least the centre's distance less ``reach``, the parts'
+    farthest offset from the centre) or all outside the cone (the disc of radius ``reach``
+    round the centre lies outside it: the centre's angle off the axis exceeds half the cone
+    plus ``asin(reach / distance)``). Both bounds are loosened by 1e-6 (m, rad) so that
+    rounding cannot skip a cell the part test would pass."""
+    c = np.asarray(centres, dtype=float).reshape(-1, 2)
+    out = np.zeros((len(c), CARVE_SUB * CARVE_SUB), dtype=bool)
+    if len(c) == 0:
+        return out
+    part = cell / CARVE_SUB
+    reach = math.sqrt(2.0) * (cell - part) / 2  # centre to the farthest part centre
+    x, y, yaw = (float(v) for v in pose[:3])
+    cy, sy = math.cos(yaw), math.sin(yaw)
+    r = np.where(np.isfinite(ranges), np.minimum(ranges, sonar.max_range), sonar.max_range)
+    mx = x + cy * sonar.offsets[:, 0] - sy * sonar.offsets[:, 1]
+    my = y + sy * sonar.offsets[:, 0] + cy * sonar.offsets[:, 1]
+    dx, dy = c[:, None, 0] - mx[None, :], c[:, None, 1] - my[None, :]
+    d = np.hypot(dx, dy)  # (M, S)
+    near = d - reach + part * math.sqrt(0.5) <= r[None, :] - CARVE_MARGIN + 1e-6
+    ang = np.abs(np.arctan2(dy, dx) - (yaw + sonar.angles)[None, :])
+    ang = np.minimum(ang % (2 * math.pi), 2 * math.pi - ang % (2 * math.pi))  # off the axis, [0, pi]
+    spread = np.arcsin(np.minimum(reach / np.maximum(d, 1e-12), 1.0))
+    facing = (d <= reach) | (ang <= sonar.cone / 2 + spread + 1e-6)
+    maybe = np.flatnonzero((near & facing).any(axis=1))
+    if len(maybe):
+        pts = cell_parts(c[maybe], cell).reshape(-1, 2)
+        out[maybe] = seen_through(pts, part, [(pose, ranges)], sonar).reshape(len(maybe), -1)
+    return out
 
 
 def carve(centres: np.ndarray, cell: float, readings: list[tuple[np.ndarray, np.ndarray]],
@@ -212,13 +287,27 @@ class GuardSettings:
 def rollout(pose: np.ndarray, v: float, omega: float, horizon: float, steps: int) -> np.ndarray:
     """(steps, 2) positions, m, of a unicycle driving (v m/s, omega rad/s) from ``pose``
     (x, y, yaw) for ``horizon`` s, at ``horizon / steps`` intervals (the start excluded)."""
-    t = np.linspace(horizon / steps, horizon, steps)
+    t = _rollout_times(float(horizon), int(steps))
     x, y, yaw = (float(p) for p in pose[:3])
+    out = np.empty((len(t), 2))
     if abs(omega) < 1e-6:
-        return np.stack([x + v * t * math.cos(yaw), y + v * t * math.sin(yaw)], axis=1)
+        out[:, 0] = x + v * t * math.cos(yaw)
+        out[:, 1] = y + v * t * math.sin(yaw)
+        return out
     r = v / omega
     th = yaw + omega * t
-    return np.stack([x + r * (np.sin(th) - math.sin(yaw)), y - r * (np.cos(th) - math.cos(yaw))], axis=1)
+    out[:, 0] = x + r * (np.sin(th) - math.sin(yaw))
+    out[:, 1] = y - r * (np.cos(th) - math.cos(yaw))
+    return out
+
+
+@lru_cache(maxsize=64)
+def _rollout_times(horizon: float, steps: int) -> np.ndarray:
+    """(steps,) times (s) of a rollout's points (read-only; a few (horizon, steps) pairs recur
+    every cycle, and ``linspace`` costs more than the rollout itself)."""
+    t = np.linspace(horizon / steps, horizon, steps)
+    t.flags.writeable = False
+    return t
 
 
 def rollout_steps(v: float, settings: GuardSettings) -> int:
@@ -235,9 +324,20 @@ def echo_arcs(obs: Observation) -> np.ndarray:
     if not mask.any():
         return np.zeros((0, ARC_RAYS, 2))
     r = np.asarray(obs.ranges, dtype=float)[mask]
-    ang = s.angles[mask][:, None] + np.linspace(-s.cone / 2, s.cone / 2, ARC_RAYS)[None, :]
+    ang = s.angles[mask][:, None] + _arc_spread(float(s.cone))[None, :]
     off = s.offsets[mask][:, None, :]
-    return off + r[:, None, None] * np.stack([np.cos(ang), np.sin(ang)], axis=2)
+    unit = np.empty((*ang.shape, 2))  # (the cosines and sines computed on contiguous arrays,
+    unit[:, :, 0] = np.cos(ang)  # as np.stack had them: a strided output may take another loop)
+    unit[:, :, 1] = np.sin(ang)
+    return off + r[:, None, None] * unit
+
+
+@lru_cache(maxsize=8)
+def _arc_spread(cone: float) -> np.ndarray:
+    """(ARC_RAYS,) ray angles (rad) across a cone of ``cone`` rad, edges included (read-only)."""
+    spread = np.linspace(-cone / 2, cone / 2, ARC_RAYS)
+    spread.flags.writeable = False
+    return spread
 
 
 def echo_blocks(obs: Observation, v: float, omega: float, horizon: float, steps: int = 12,

@@ -20,6 +20,7 @@ from nav_bench.planners.dstar_lite import (
     DStarLite,
     DStarLiteSearch,
     PathRepair,
+    _queue_key,
     astar,
     cell_costs,
     clearance_costs,
@@ -350,6 +351,41 @@ def test_set_costs_counts_real_changes_and_keeps_the_last_of_a_repeated_cell() -
     cost[2, 2], cost[4, 4] = 4.0, 1.5
     assert search.path_cost == pytest.approx(astar(cost, (0, 0), (5, 5))[0], abs=1e-12)
     assert search.set_costs([1], [1], [1.0]) == 0
+
+
+def test_set_costs_queues_with_the_keys_of_the_reference_formula() -> None:
+    """set_costs writes the key out inline: every live queue entry is the reference key of
+    its vertex (min(g, rhs), octile distance from the start, km), and a finished search has
+    rhs equal to the minimum over each vertex's edges."""
+    rng = np.random.default_rng(7)
+    cost = rng.choice([1.0, 1.0, 2.0, 5.0, INF], size=(20, 20))
+    cost[19, 19] = 1.0
+    search = DStarLiteSearch(cost, (0, 0), (19, 19))
+    search.plan_from_scratch()
+    search.move_start((3, 2))
+    rows, cols = rng.integers(0, 19, 40), rng.integers(0, 19, 40)
+    search.set_costs(rows, cols, rng.choice([1.0, 3.0, 1000.0, INF], size=40))
+    graph, live = search.graph, [e for e in search.entry if e is not None]
+    assert len(live) > 10
+    sr, sc = graph.cell(search.start)
+    for k1, k2, u in live:
+        r, c = graph.cell(u)
+        m = min(search.g[u], search.rhs[u])
+        assert (k1, k2) == _queue_key(m, r - sr, c - sc, search.km)
+    search.compute()
+    for u in range(len(search.g)):
+        if graph.inner[u] and u != search.goal:
+            assert search.rhs[u] == search._recompute_rhs(u)
+
+
+def test_the_planner_finds_its_cell_as_the_grid_does() -> None:
+    planner = DStarLite()
+    obs = Observation(t=0.0, pose=np.array([1.0, 1.0, 0.0]), goal=np.array([3.5, 1.0]), ranges=np.full(6, 3.0),
+                      robot=default_robot(), bounds=(0.0, 0.0, 4.0, 2.0), dt=0.1)
+    planner.reset(obs, np.random.default_rng(0))
+    rng = np.random.default_rng(2)
+    for xy in rng.uniform(-0.5, 4.5, (2000, 2)).tolist() + [[0.1 * k, 0.3] for k in range(40)]:
+        assert planner._cell_of(np.array(xy)) == tuple(int(v) for v in planner.grid.world_to_cell(np.array(xy)))
 
 
 @pytest.mark.parametrize("seed", range(4))
