@@ -977,6 +977,9 @@ class DStarLite(Planner):
         super().reset(obs, rng)
         self.reset_path(obs)
         p = self.settings
+        x0, y0, _x1, _y1 = self.grid.bounds
+        # the follower's exact clearance to the map's occupied squares (reads self.occupied)
+        self._squares = SquareClearance(self.occupied, x0, y0, p.cell, self._clearance_cap(obs))
         v = min(p.v_max, obs.robot.v_max)
         self.guard_settings = GuardSettings(
             required=obs.robot.radius + p.squeeze_margin, horizon=p.safety_horizon_s,
@@ -1005,10 +1008,8 @@ class DStarLite(Planner):
 
     def required_clearance(self, obs: Observation) -> float:
         """The distance (m, cell centre to the nearest occupied cell's centre) within which the
-        search treats a cell as inscribed: the robot radius plus ``passage_margin`` (half a cell
-        for ``dwa_global``, which has no such parameter)."""
-        p = self.settings
-        return obs.robot.radius + getattr(p, "passage_margin", 0.5 * p.cell)
+        search treats a cell as inscribed: the robot radius plus ``passage_margin``."""
+        return obs.robot.radius + self.settings.passage_margin
 
     def reset_path(self, obs: Observation) -> None:
         """The grid, the obstacle distances and costs, and the first D* Lite plan (what
@@ -1029,8 +1030,6 @@ class DStarLite(Planner):
         self.window = math.ceil((obs.robot.sonar.max_range + 2 * p.cell) / p.cell) + 1
         self.occupied = np.zeros(self.shape, dtype=bool)
         self.dist = np.full(self.shape, self.cap)  # cells: clearance of each cell's best point
-        x0, y0, _x1, _y1 = self.grid.bounds
-        self._squares = SquareClearance(self.occupied, x0, y0, p.cell, self._clearance_cap(obs))
         self.cost = np.ones(self.shape)
         self.goal_rc = self._clamp(self.grid.world_to_cell(obs.goal))
         self.goal_xy = np.asarray(obs.goal, dtype=float)
@@ -1084,8 +1083,7 @@ class DStarLite(Planner):
     def _clearance_cap(self, obs: Observation) -> float:
         """Clearances beyond this (m) change nothing the follower does."""
         p = self.settings
-        return (obs.robot.radius + max(getattr(p, "cruise_margin", 0.0), getattr(p, "passage_margin", 0.0))
-                + getattr(p, "slow_distance", 0.0) + p.cell)
+        return obs.robot.radius + max(p.cruise_margin, p.passage_margin) + p.slow_distance + p.cell
 
     def clearance(self, xy: np.ndarray) -> np.ndarray:
         """(N,) m from points ``xy`` (N, 2) to the nearest occupied cell, each taken as the square

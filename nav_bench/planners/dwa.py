@@ -489,6 +489,12 @@ class DWAGlobal(DStarLite, DWA):
         self.local_goal = np.asarray(obs.goal, dtype=float).copy()
         self.blocked = 0  # 0, or the side (+1 left, -1 right) turned to while blocked
 
+    def required_clearance(self, obs: Observation) -> float:
+        """Cells within the robot radius plus half a cell of an occupied one are inscribed (m,
+        centre to centre): D* Lite's rule before its follower got ``passage_margin``; DWA keeps
+        its own clearance on the roll-outs (``min_clearance``)."""
+        return obs.robot.radius + 0.5 * self.settings.cell
+
     def _wants_grid(self) -> bool:
         return True
 

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import nav_bench.planners.dwa as dwa_module
+from nav_bench.planners.dstar_lite import DStarLite
 from nav_bench.planners.dwa import (
     DWA,
     Choice,
@@ -26,7 +27,7 @@ from nav_bench.planners.dwa import (
     nearest_distances,
     rollout,
 )
-from nav_bench.testing.harness import BoxWorld, run, wall_world
+from nav_bench.testing.harness import BoxWorld, default_robot, observe, run, wall_world
 
 P = DWA().settings  # the defaults, as the planner reads them
 
@@ -278,3 +279,14 @@ def test_the_decision_computes_few_exact_distances() -> None:
     assert got == reference_choose_velocity(*args)
     assert (got.v, got.admissible) == (0.5, 105) and got.omega == pytest.approx(0.6 / 14)
     assert pairs == [(60, 41), (70, 7)]
+
+
+def test_dwa_global_inscribes_within_half_a_cell_and_dstar_lite_within_its_passage_margin() -> None:
+    # the two planners share D* Lite's search but not its follower: dwa_global's inscribed
+    # band is the robot radius plus half a cell (DWA keeps its own clearance on the
+    # roll-outs), D* Lite's the radius plus passage_margin
+    world = BoxWorld.room((4.0, 4.0), [])
+    robot = default_robot(radius=0.2)
+    obs = observe(world, np.array([1.0, 1.0, 0.0]), np.array([3.0, 3.0]), robot, 0.0, 0.1)
+    assert DWAGlobal(cell=0.1).required_clearance(obs) == pytest.approx(0.25)
+    assert DStarLite(passage_margin=0.03).required_clearance(obs) == pytest.approx(0.23)
