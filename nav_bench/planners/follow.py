@@ -47,22 +47,16 @@ def world_echoes(obs: Observation) -> np.ndarray:
     return obs.sonar_hits()[echo_mask(obs)]
 
 
-def obstacle_ahead(obs: Observation, distance: float, half_width: float) -> float:
+def obstacle_ahead(obs: Observation, distance: float, half_width: float,
+                   within: float = math.inf) -> float:
     """Distance (m, from the robot centre along its heading) to the nearest echo inside the
     corridor ``0 < x < distance``, ``|y| < half_width`` of the robot frame; ``inf`` if none.
 
     Uses the echo points on the sonar axes, so an obstacle between two sonar cones is missed:
-    that is the sensing these planners have.
+    that is the sensing these planners have. ``within`` (rad) keeps only the sonars whose axis
+    lies that close to the heading: a diagonal sonar's echo a few cm off a wall beside the
+    robot lands inside the corridor ahead, although the way ahead is open.
     """
-    p = robot_frame_hits(obs)[echo_mask(obs)]
-    inside = (p[:, 0] > 0.0) & (p[:, 0] < distance) & (np.abs(p[:, 1]) < half_width)
-    return float(p[inside, 0].min()) if inside.any() else math.inf
-
-
-def front_obstacle(obs: Observation, distance: float, half_width: float, within: float) -> float:
-    """:func:`obstacle_ahead` seen by the sonars whose axis lies within ``within`` rad of the
-    heading only: a diagonal sonar's echo a few cm off a wall beside the robot lands inside the
-    corridor ahead, although the way ahead is open."""
     p = robot_frame_hits(obs)[echo_mask(obs) & (np.abs(obs.robot.sonar.angles) <= within)]
     inside = (p[:, 0] > 0.0) & (p[:, 0] < distance) & (np.abs(p[:, 1]) < half_width)
     return float(p[inside, 0].min()) if inside.any() else math.inf
@@ -236,7 +230,7 @@ class WallFollower:
         self.observe(obs)
         v = min(self.speed, robot.v_max)
         near = self.nearest(obs)
-        ahead = front_obstacle(obs, self.front, corridor_half_width(robot), self.front_sonars)
+        ahead = obstacle_ahead(obs, self.front, corridor_half_width(robot), within=self.front_sonars)
         if ahead < self.front and (near is None or ahead <= near[0] + self.ahead_slack):
             # the nearest boundary is straight ahead: its tangent is a right angle away from
             # the side; turn on the spot until the way ahead is clear
