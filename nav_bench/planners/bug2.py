@@ -124,7 +124,6 @@ class Bug2(Planner):
             if ahead < p.hit_distance and facing and ahead < to_goal:
                 self.mode, self.hit, self.hit_goal_distance = FOLLOW, xy.copy(), to_goal
                 self.loop.arm(xy, float(obs.pose[2]))
-                self.follower.start()
                 self._hits.append([float(xy[0]), float(xy[1])])
                 self.emit("replan", obs.t, reason="hit", x=float(xy[0]), y=float(xy[1]))
             else:

@@ -194,9 +194,6 @@ class WallFollower:
         self.memory = EchoMemory(memory_s)
         self._seen_t = -math.inf  # time of the last cycle remembered
 
-    def start(self) -> None:
-        """Begin following a new boundary (the echoes seen so far stay: they are still there)."""
-
     def observe(self, obs: Observation) -> None:
         """Remember this cycle's echoes, once per cycle (:meth:`act` calls it; a planner calls it
         in the cycles it does not follow, so the memory has no gap when following starts)."""
