@@ -168,18 +168,6 @@ class WallFollower:
     from ``side``. When no point lies within ``distance + reach`` m, the boundary has ended out
     of reach: the robot arcs toward ``side`` with radius ``distance`` to find it again.
 
-    A gap between the followed boundary and an obstacle on the other side narrower than
-    ``2 * (radius + gap_margin)`` is part of the obstacle (the configuration-space boundary of
-    a disc robot, with the margin the sonars' placement error asks for; TangentBug's range
-    function grows echoes the same way): when this cycle's echo of a sonar on the other side
-    lies ahead (``gap_ahead`` m along the boundary at most) and closer to the boundary's tangent
-    line than that, the gap is bridged with remembered points (for ``memory_s``), and the
-    robot turns away from it as from a wall ahead and follows round the obstacle beside it.
-    Held into such a gap, the robot rocked in it until the episode's stuck rule ended it
-    (issue 12: Bug2 in office_2 and clutter_8, TangentBug in office_4). Once inside a narrow
-    passage (the other side's beside sonar already sees its far wall that close) it is left
-    alone: bridging it ahead then would only turn the robot round and round inside it.
-
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
         distance: boundary distance to hold, m from the robot centre.
@@ -196,10 +184,6 @@ class WallFollower:
     side_sonar_axis, side_sonar_window = math.pi / 2, math.radians(30.0)
     front_sonars = math.radians(30.0)  # sonars this close to the heading watch the way ahead
     ahead_slack = 0.1  # m: an echo ahead this much farther than the side's still counts as nearest
-    gap_margin = 0.05  # m: clearance on each side of the body a gap must leave to be entered
-    blocked_alignment = math.radians(20.0)  # heading this close to the tangent with the way blocked: turn
-    gap_ahead = 0.7  # m: how far ahead along the boundary a narrow gap is bridged
-    bridge_step = 0.1  # m: spacing of the points that bridge a narrow gap
 
     def __init__(self, side: int, distance: float, speed: float, front: float,
                  k_dist: float = 2.0, memory_s: float = 3.0, reach: float = 0.6) -> None:
@@ -208,10 +192,7 @@ class WallFollower:
         self.side, self.distance, self.speed, self.front = side, distance, speed, front
         self.k_dist, self.reach = k_dist, reach
         self.memory = EchoMemory(memory_s)
-        self.bridges = EchoMemory(memory_s)  # points closing gaps narrower than the robot passes
         self._seen_t = -math.inf  # time of the last cycle remembered
-        self._turn_last: float | None = None  # heading (rad) at the last cycle of a turn on the spot
-        self._turned = 0.0  # rad turned so far in that turn
 
     def observe(self, obs: Observation) -> None:
         """Remember this cycle's echoes, once per cycle (:meth:`act` calls it; a planner calls it
@@ -228,8 +209,7 @@ class WallFollower:
         right enough now); ``None`` if there is none."""
         xy = np.asarray(obs.pose[:2], dtype=float)
         now = obs.sonar_hits()[echo_mask(obs) & (self.side * obs.robot.sonar.angles > 0.0)]
-        within = self.distance + self.reach
-        pts = np.concatenate([self.memory.points(xy, within), self.bridges.points(xy, within), now])
+        pts = np.concatenate([self.memory.points(xy, self.distance + self.reach), now])
         if len(pts) == 0:
             return None
         d = pts - xy
@@ -242,98 +222,22 @@ class WallFollower:
         i = int(np.argmin(np.where(on_side, dist, np.inf)))
         return float(dist[i]), float(bearing[i])
 
-    def bridge_narrow_gap(self, obs: Observation, near: tuple[float, float]) -> bool:
-        """Bridge a gap ahead narrower than the robot passes (see the class docstring) between
-        the boundary point ``near`` (distance m, world bearing rad) and this cycle's echoes of
-        the other side's sonars; True if one was bridged. The boundary is taken as the line
-        through that point square to the robot's bearing of it."""
-        s = obs.robot.sonar
-        other = echo_mask(obs) & (self.side * s.angles < 0.0)
-        if not other.any():
-            return False
-        xy = np.asarray(obs.pose[:2], dtype=float)
-        dist, bearing = near
-        normal = -np.array([math.cos(bearing), math.sin(bearing)])  # boundary -> robot
-        tangent = np.array([-self.side * normal[1], self.side * normal[0]])  # along, forward
-        foot = xy - dist * normal
-        d = obs.sonar_hits()[other] - foot
-        gap, along = d @ normal, d @ tangent
-        narrow = (gap > 0.0) & (gap < 2.0 * (obs.robot.radius + self.gap_margin))
-        beside = np.abs(s.angles[other] + self.side * math.pi / 2) <= self.side_sonar_window
-        if np.any(narrow & beside):  # already inside a narrow passage
-            return False
-        closing = narrow & ~beside & (along > 0.0) & (along < self.gap_ahead)
-        if not closing.any():
-            return False
-        k = int(np.argmin(np.where(closing, along, np.inf)))
-        steps = np.arange(0.0, gap[k] + 1e-9, self.bridge_step)
-        line = foot + along[k] * tangent + steps[:, None] * normal[None, :]  # (n, 2) across the gap
-        self.bridges.add_points(line, obs.t)
-        return True
-
     def act(self, obs: Observation) -> Command:
         robot = obs.robot
         self.observe(obs)
         v = min(self.speed, robot.v_max)
         near = self.nearest(obs)
-        if near is not None and self.bridge_narrow_gap(obs, near):
-            near = self.nearest(obs)
         ahead = obstacle_ahead(obs, self.front, corridor_half_width(robot), within=self.front_sonars)
-        ahead = min(ahead, self._bridge_ahead(obs))
-        yaw = float(obs.pose[2])
-        if self._keeps_turning(yaw, ahead):
-            return self._turn_away(robot)
         if ahead < self.front and (near is None or ahead <= near[0] + self.ahead_slack):
             # the nearest boundary is straight ahead: its tangent is a right angle away from
             # the side; turn on the spot until the way ahead is clear
-            return self._start_turn(yaw, robot)
+            return limit(0.0, -self.side * 0.6 * robot.omega_max, robot)
         if near is None:  # the boundary ended out of reach: arc round toward it
             return limit(0.6 * v, self.side * 0.6 * v / max(self.distance, 1e-3), robot)
         dist, bearing = near
         correction = max(-self.max_correction, min(self.max_correction, self.k_dist * (dist - self.distance)))
         heading = bearing - self.side * math.pi / 2 + self.side * correction
-        if ahead < self.front and abs(wrap_angle(heading - yaw)) < self.blocked_alignment:
-            # facing along the boundary with the way blocked (the end of a pocket hardly wider
-            # than the robot): standing still would wait for ever, so turn round like at a wall
-            return self._start_turn(yaw, robot)
         return steer(obs, heading, 0.0 if ahead < self.front else v)
-
-    def _start_turn(self, yaw: float, robot: RobotInfo) -> Command:
-        """Begin (or go on with) a turn on the spot away from the side, kept up until the way
-        ahead is clear (:meth:`_keeps_turning`): in a pocket hardly wider than the robot the
-        nearest point flips between the walls as it turns, and turning back and forth with it
-        rocked the robot there until the stuck rule ended the episode."""
-        if self._turn_last is None:
-            self._turned, self._turn_last = 0.0, yaw
-        return self._turn_away(robot)
-
-    def _keeps_turning(self, yaw: float, ahead: float) -> bool:
-        """Whether a turn begun by :meth:`_start_turn` goes on: until the way ahead is clear,
-        or a full turn found no clear way (then the follower's law takes over again)."""
-        if self._turn_last is None:
-            return False
-        self._turned += abs(wrap_angle(yaw - self._turn_last))
-        self._turn_last = yaw
-        if ahead >= self.front or self._turned >= 2 * math.pi:
-            self._turn_last = None
-            return False
-        return True
-
-    def _turn_away(self, robot: RobotInfo) -> Command:
-        return limit(0.0, -self.side * 0.6 * robot.omega_max, robot)
-
-    def _bridge_ahead(self, obs: Observation) -> float:
-        """Distance (m, along the heading) to the nearest bridge point in the corridor ahead
-        within ``front``; ``inf`` if none (a bridge is a wall ahead the sonars do not hear)."""
-        xy = np.asarray(obs.pose[:2], dtype=float)
-        pts = self.bridges.points(xy, self.front + corridor_half_width(obs.robot))
-        if len(pts) == 0:
-            return math.inf
-        c, s = math.cos(float(obs.pose[2])), math.sin(float(obs.pose[2]))
-        d = pts - xy
-        x, y = d[:, 0] * c + d[:, 1] * s, -d[:, 0] * s + d[:, 1] * c
-        inside = (x > 0.0) & (x < self.front) & (np.abs(y) < corridor_half_width(obs.robot))
-        return float(x[inside].min()) if inside.any() else math.inf
 
 
 # ----------------------------------------------------------------------------- echo memory
@@ -377,11 +281,7 @@ class EchoMemory:
         """Store this cycle's echoes (of the sonars where ``sonars`` (K,) bool is True, default
         all) and forget those older than the horizon."""
         pts = world_echoes(obs) if sonars is None else obs.sonar_hits()[echo_mask(obs) & sonars]
-        self.add_points(pts, obs.t)
-
-    def add_points(self, pts: np.ndarray, now: float) -> None:
-        """Store world points ``pts`` (M, 2), m, seen at time ``now`` (s), and forget those older
-        than the horizon."""
+        now = obs.t
         cut = now - self.horizon
         lo, hi = self._lo, self._hi
         if not (self._sorted and now >= cut and (hi == lo or self._buf_t[hi - 1] <= now)):
