@@ -84,3 +84,33 @@ def test_nothing_within_reach_on_its_side_arcs_toward_that_side() -> None:
     assert follower.nearest(obs) is None
     assert cmd.v == pytest.approx(0.6 * 0.4)
     assert cmd.omega == pytest.approx(-0.6 * 0.4 / 0.45)  # radius = distance, clockwise
+
+
+@pytest.mark.parametrize("gap", [0.3, 0.45])
+def test_a_gap_narrower_than_the_robot_is_part_of_the_obstacle(gap: float) -> None:
+    """A box ``gap`` m off the followed wall (no wider than the 0.4 m test robot plus 5 cm):
+    the follower goes round the box's far side and comes back to the wall beyond it, never
+    into the gap. (Issue 12 suspected such gaps behind the rocking endings; the follower
+    already treats them as part of the obstacle: the box stands in the corridor it drives,
+    a wall ahead. The rocking is in dead-end pockets 0.55-0.62 m wide, wider than the robot:
+    results/baselines/bugs_s7/summary.md.)"""
+    box = (4.0, gap, 5.0, gap + 0.6)
+    world = BoxWorld.room((10.0, 4.0), [box])
+    poses = drive(WallFollower(RIGHT, distance=0.45, speed=0.4, front=0.45), world, (1.0, 0.45, 0.0), 25.0)
+    clearance = np.array([world.clearance(p[:2]) for p in poses])
+    assert clearance.min() > 0.2  # the robot's radius: no contact
+    along_box = poses[(poses[:, 0] > box[0]) & (poses[:, 0] < box[2])]
+    assert len(along_box) > 0 and along_box[:, 1].min() > box[3]  # over the box, never under it
+    beyond = poses[poses[:, 0] > box[2] + 1.0]
+    assert len(beyond) > 10  # and on along the wall past it, at its distance
+    assert beyond[:, 1] == pytest.approx(0.45, abs=0.1)  # settling after the corner
+
+
+def test_a_gap_the_robot_passes_is_entered() -> None:
+    """A box 0.9 m off the wall leaves a way through: the follower keeps to its wall under it."""
+    box = (4.0, 0.9, 5.0, 1.5)
+    world = BoxWorld.room((10.0, 4.0), [box])
+    poses = drive(WallFollower(RIGHT, distance=0.45, speed=0.4, front=0.45), world, (1.0, 0.45, 0.0), 20.0)
+    under = poses[(poses[:, 0] > box[0]) & (poses[:, 0] < box[2])]
+    assert len(under) > 0 and under[:, 1].max() < box[1]
+    assert poses[-1, 0] > 6.0
