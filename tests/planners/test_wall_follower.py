@@ -92,7 +92,7 @@ def test_a_gap_narrower_than_the_robot_is_part_of_the_obstacle(gap: float) -> No
     the follower goes round the box's far side and comes back to the wall beyond it, never
     into the gap. (Issue 12 suspected such gaps behind the rocking endings; the follower
     already treats them as part of the obstacle: the box stands in the corridor it drives,
-    a wall ahead. The rocking is in dead-end pockets 0.55-0.62 m wide, wider than the robot:
+    a wall ahead. The rocking is near passages 0.50-0.69 m wide, wider than the robot:
     results/baselines/bugs_s7/summary.md.)"""
     box = (4.0, gap, 5.0, gap + 0.6)
     world = BoxWorld.room((10.0, 4.0), [box])
