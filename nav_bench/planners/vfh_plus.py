@@ -71,7 +71,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from nav_bench.interface import Command, GridState, Observation, StuckReason, wrap_angle
+from nav_bench.interface import Command, GridState, Observation, SonarInfo, StuckReason, wrap_angle
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
@@ -146,11 +146,51 @@ def centre_coordinates(frame: GridFrame) -> tuple[np.ndarray, np.ndarray]:
     return xs, ys
 
 
+def axis_hit_cells(values: np.ndarray, frame: GridFrame, pose: np.ndarray, ranges: np.ndarray,
+                   sonar: SonarInfo, beyond: float) -> np.ndarray:
+    """Flat indices (K',) into ``values`` (H, W) of the cells HIMM would increment for one
+    reading: per sonar with an echo (``ranges`` (K,) m below ``max_range``), the first cell
+    along its axis, from one cell short of the range to ``beyond`` m past it, that the shared
+    map holds occupied (> 50). The echo is the cone's nearest surface, so where the axis meets
+    a wall obliquely the wall lies a little past the range on the axis; HIMM puts the hit at
+    the range itself, which here would be a free cell of the shared map and count for nothing."""
+    x, y, yaw = (float(v) for v in np.asarray(pose, dtype=float)[:3])
+    r = np.asarray(ranges, dtype=float).reshape(-1)
+    echo = np.flatnonzero(np.isfinite(r) & (r < sonar.max_range))
+    if len(echo) == 0:
+        return np.zeros(0, dtype=np.intp)
+    cell = frame.cell
+    c, s = math.cos(yaw), math.sin(yaw)
+    off = sonar.offsets[echo]
+    sx, sy = x + c * off[:, 0] - s * off[:, 1], y + s * off[:, 0] + c * off[:, 1]  # (E,) m
+    axis = yaw + sonar.angles[echo]
+    steps = np.arange(-cell, beyond + 1e-9, cell / 4)  # quarter cells: no cell skipped
+    along = np.maximum(r[echo][:, None] + steps, 0.0)  # (E, S) m from the sonar
+    px, py = sx[:, None] + along * np.cos(axis)[:, None], sy[:, None] + along * np.sin(axis)[:, None]
+    rows, cols = np.floor((py - frame.ymin) / cell).astype(np.intp), np.floor((px - frame.xmin) / cell).astype(np.intp)
+    h, w = frame.shape
+    inside = (rows >= 0) & (rows < h) & (cols >= 0) & (cols < w)
+    flat = np.where(inside, rows * w + cols, 0)
+    occupied = inside & (values.reshape(-1).take(flat) > UNKNOWN)
+    first = occupied.argmax(axis=1)
+    hit = occupied[np.arange(len(echo)), first]
+    return np.unique(flat[np.flatnonzero(hit), first[hit]])
+
+
+def record_axis_hits(hits: np.ndarray, cells: np.ndarray, increment: int, c_max: int) -> None:
+    """HIMM's increment, in place: ``hits`` (H, W) uint8 gains ``increment`` on the flat
+    ``cells``, capped at ``c_max``."""
+    flat = hits.reshape(-1)
+    flat[cells] = np.minimum(flat.take(cells).astype(np.int32) + increment, c_max).astype(hits.dtype)
+
+
 def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
-                c_max: float) -> ActiveWindow:
+                c_max: float, hits: np.ndarray | None = None, whole_within: float = 0.0) -> ActiveWindow:
     """The cells with certainty > 0 within ``radius`` m of ``xy``, in row-major order: the
     active window of the occupancy ``values`` (H, W) 0..100 laid out by ``frame``. Reads only
-    the window's square of the live map, and converts only its cells above 50 (certainty > 0)."""
+    the window's square of the live map, and converts only its cells above 50 (certainty > 0).
+    With ``hits`` (H, W) (HIMM counts, :func:`record_axis_hits`) a cell's certainty is the
+    smaller of the two and cells no sonar axis hit drop out."""
     cell = frame.cell
     h, w = frame.shape
     x, y = float(xy[0]), float(xy[1])
@@ -170,8 +210,13 @@ def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: fl
     cx, cy = xs[cs:ce].take(cc), ys[rs:re].take(rr)
     dx, dy = cx - x, cy - y
     dist = np.hypot(dx, dy)
-    if dist.max(initial=0.0) > radius:  # the square's corners: keep the disc
-        near = np.flatnonzero(dist <= radius)
+    keep = dist <= radius
+    if hits is not None:
+        far = dist >= whole_within
+        np.minimum(cert, hits[rs:re, cs:ce][above], out=cert, where=far)
+        keep &= cert > 0
+    if not keep.all():  # the square's corners, cells no axis hit: keep the rest
+        near = np.flatnonzero(keep)
         cx, cy, cert, dx, dy, dist = (a.take(near) for a in (cx, cy, cert, dx, dy, dist))
     return ActiveWindow(cx, cy, cert, dx, dy, dist)
 
@@ -391,6 +436,13 @@ class VFHPlus(Planner):
         Param("cell", 0.1, "m", "side of the occupancy grid's cells", minimum=0.01),
         Param("c_max", 15, "-", "certainty of a cell the grid holds certainly occupied (occupancy 100)",
               minimum=1),
+        Param("axis_increment", 3, "-", "HIMM's certainty increment per echo on a sonar axis (Borenstein & "
+              "Koren 1991); a cell's certainty is at most its count, so only cells the axes hit count; 0 reads "
+              "the whole shared map", minimum=0),
+        Param("axis_beyond", 0.15, "m", "how far past the echo range the first occupied cell on a sonar axis "
+              "is looked for", minimum=0.0),
+        Param("axis_only_beyond", 1.0, "m", "cells nearer than this count whole (six sonars leave the axes 30 deg "
+              "apart, where a ring of 24 sonars would hit a near wall densely)", minimum=0.0),
         Param("window_radius", 1.6, "m", "radius of the active window around the robot", minimum=0.1),
         Param("sector_deg", 5.0, "deg", "angular width of a histogram sector", minimum=0.5, maximum=45.0),
         Param("safety_distance", 0.05, "m", "distance added to the robot radius to enlarge cells", minimum=0.0),
@@ -420,6 +472,7 @@ class VFHPlus(Planner):
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
         self.frame = GridFrame.from_bounds(self.grid.bounds, self.grid.cell)
+        self.hits = np.zeros(self.frame.shape, dtype=np.uint8) if p.axis_increment > 0 else None
         self.n = max(4, round(360.0 / p.sector_deg))
         self.alpha = 2 * math.pi / self.n
         self.binary = np.zeros(self.n, dtype=bool)
@@ -437,13 +490,17 @@ class VFHPlus(Planner):
         p = self.settings
         robot = obs.robot
         self.grid.update(obs.pose, obs.ranges, obs.robot.sonar)
+        values = self.grid.values(copy=False)
+        if self.hits is not None:
+            record_axis_hits(self.hits, axis_hit_cells(values, self.frame, obs.pose, obs.ranges, robot.sonar,
+                                                       p.axis_beyond), int(p.axis_increment), int(p.c_max))
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         yaw = float(obs.pose[2])
         d_goal = float(np.hypot(*(goal - xy)))
         r_rs = robot.radius + p.safety_distance
         # obstacles beyond the goal cannot block the way to it: the window shrinks to the goal
-        window = read_window(self.grid.values(copy=False), self.frame, xy, min(p.window_radius, d_goal),
-                             p.c_max)
+        window = read_window(values, self.frame, xy, min(p.window_radius, d_goal), p.c_max, self.hits,
+                             p.axis_only_beyond)
         bearings = window.bearings()
         self.primary = window_histogram(window, bearings, self.n, r_rs, p.window_radius, p.distance_weight)
         self.binary = binary_histogram(self.primary, self.binary, p.threshold_low, p.threshold_high)
