@@ -499,18 +499,25 @@ class VFHPlus(Planner):
         d_goal = float(np.hypot(*(goal - xy)))
         r_rs = robot.radius + p.safety_distance
         # obstacles beyond the goal cannot block the way to it: the window shrinks to the goal
-        window = read_window(values, self.frame, xy, min(p.window_radius, d_goal), p.c_max, self.hits,
-                             p.axis_only_beyond)
-        bearings = window.bearings()
+        radius = min(p.window_radius, d_goal)
+        whole = read_window(values, self.frame, xy, radius, p.c_max)
+        whole_bearings = whole.bearings()
+        if self.hits is None:
+            window, bearings = whole, whole_bearings
+        else:
+            window = read_window(values, self.frame, xy, radius, p.c_max, self.hits, p.axis_only_beyond)
+            bearings = window.bearings()
         self.primary = window_histogram(window, bearings, self.n, r_rs, p.window_radius, p.distance_weight)
+        self.density = (self.primary if self.hits is None else
+                        window_histogram(whole, whole_bearings, self.n, r_rs, p.window_radius, p.distance_weight))
         self.binary = binary_histogram(self.primary, self.binary, p.threshold_low, p.threshold_high)
         radius_turn = abs(self.v_prev) / robot.omega_max
-        phi_r, phi_l = window_turning_limits(window, bearings, obs.pose, radius_turn, r_rs, p.mask_certainty)
+        phi_r, phi_l = window_turning_limits(whole, whole_bearings, obs.pose, radius_turn, r_rs, p.mask_certainty)
         self.masked = masked_histogram(self.binary, yaw, phi_r, phi_l)
         k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
         k_heading = self._sector(yaw)
         # relaxed thresholds must not open a sector toward a cell within r_rs + one cell
-        near = (near_sectors(np.stack([window.x, window.y], axis=1), window.certainty, xy, self.n, r_rs,
+        near = (near_sectors(np.stack([whole.x, whole.y], axis=1), whole.certainty, xy, self.n, r_rs,
                              r_rs + p.cell, p.mask_certainty)
                 if self.masked.all() else None)
         k, self.masked, factor = select_direction(
@@ -533,7 +540,9 @@ class VFHPlus(Planner):
         if abs(err) > math.radians(p.turn_in_place_deg):
             v = 0.0
         else:
-            density = float(self.primary[round(k_heading) % self.n])
+            heading_sector = round(k_heading) % self.n
+            density = max(float(self.primary[heading_sector]),
+                          min(float(self.density[heading_sector]), 0.75 * slow))
             v = v_top * (1.0 - min(density, slow) / slow)
             v = arrival_speed(d_goal, v) * max(0.0, math.cos(err))
         cmd = limit(v, omega, robot)
