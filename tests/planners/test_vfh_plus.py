@@ -414,3 +414,17 @@ def test_a_corridors_end_wall_1_4_m_ahead_leaves_the_way_on_open() -> None:
     himm, whole = histograms(pose[:2])  # y = 3.5: the end wall 0.5 m ahead
     assert himm[18] == pytest.approx(8982.0) and himm[18] > 2500.0
     np.testing.assert_allclose(himm[14:23], whole[14:23])  # 70..110 deg: only cells within 1 m
+
+
+def test_himm_reading_is_opt_in() -> None:
+    """By default the histogram reads the whole shared map (no counts kept); with
+    ``axis_increment`` = 3 the planner counts the axes' hits: 3 per echo on the wall ahead."""
+    world, _start, goal = wall_world()
+    robot = default_robot()
+    obs = observe(world, np.array([3.0, 3.0, 0.0]), np.array(goal), robot, 0.0, 0.1)
+    default, himm = VFHPlus(), VFHPlus(axis_increment=3)
+    for planner in (default, himm):
+        planner.reset(obs, np.random.default_rng(0))
+        planner.act(obs)
+    assert default.hits is None
+    assert himm.hits is not None and set(np.unique(himm.hits).tolist()) == {0, 3}
