@@ -8,24 +8,6 @@ pp. 1572-1577. The certainty grid is the shared sonar map every map-building pla
 place of HIMM's axis-only counts (Borenstein & Koren 1991), so the map plots and map-quality
 figures compare like with like across planners.
 
-**HIMM reading (opt-in, ``axis_increment`` > 0; issue 12, ``results/baselines/vfh_s7/``).** The
-certainty grid VFH+ builds on is HIMM's (Borenstein & Koren, "The vector field histogram - fast
-obstacle avoidance for mobile robots", IEEE Trans. Robotics and Automation 7(3), 1991): each
-echo increments (+3, up to ``c_max`` = 15) only the cell on the sonar's axis at the echo's
-range, so a wall is one cell thick and as certain as the axes saw it. With ``axis_increment``
-set, the planner keeps that count per cell (:func:`axis_hit_cells`: the first cell the shared
-map holds occupied on the axis, from one cell short of the range to ``axis_beyond`` past it,
-as an oblique wall lies past the cone's nearest echo on the axis) and the histogram reads a
-cell's certainty as the smaller of the shared map's and its count, beyond
-``axis_only_beyond``; nearer cells, the turning mask, the ``near`` sectors and the speed
-(its density capped at 0.75 ``slow_density``, so an open valley never stands the robot still)
-read the whole map. It leaves a 1 m maze corridor open with its end wall 1.4 m ahead, where
-the whole map sums over ``threshold_high`` (tests), the generated mazes' shuttle. But six
-sonars 30 deg apart leave the axes' walls sparse: VFH+ opens valleys through them, and on the
-paper's worlds it reached 24 of 35 instead of 27 with 10 contacts instead of 7, on the 20 mazes
-1 of 20 as before with 14 contacts instead of 6, and the shuttles stayed (maze_13, maze_16). So
-the default is 0: the whole shared map.
-
 Each cycle, on the cells of the active window (``window_radius`` m around the robot, or
 the goal distance when that is shorter: VFH+ has no notion of a goal position, and a wall
 just behind the goal would otherwise close the goal's sector for good):
@@ -89,7 +71,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from nav_bench.interface import Command, GridState, Observation, SonarInfo, StuckReason, wrap_angle
+from nav_bench.interface import Command, GridState, Observation, StuckReason, wrap_angle
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
@@ -164,51 +146,11 @@ def centre_coordinates(frame: GridFrame) -> tuple[np.ndarray, np.ndarray]:
     return xs, ys
 
 
-def axis_hit_cells(values: np.ndarray, frame: GridFrame, pose: np.ndarray, ranges: np.ndarray,
-                   sonar: SonarInfo, beyond: float) -> np.ndarray:
-    """Flat indices (K',) into ``values`` (H, W) of the cells HIMM would increment for one
-    reading: per sonar with an echo (``ranges`` (K,) m below ``max_range``), the first cell
-    along its axis, from one cell short of the range to ``beyond`` m past it, that the shared
-    map holds occupied (> 50). The echo is the cone's nearest surface, so where the axis meets
-    a wall obliquely the wall lies a little past the range on the axis; HIMM puts the hit at
-    the range itself, which here would be a free cell of the shared map and count for nothing."""
-    x, y, yaw = (float(v) for v in np.asarray(pose, dtype=float)[:3])
-    r = np.asarray(ranges, dtype=float).reshape(-1)
-    echo = np.flatnonzero(np.isfinite(r) & (r < sonar.max_range))
-    if len(echo) == 0:
-        return np.zeros(0, dtype=np.intp)
-    cell = frame.cell
-    c, s = math.cos(yaw), math.sin(yaw)
-    off = sonar.offsets[echo]
-    sx, sy = x + c * off[:, 0] - s * off[:, 1], y + s * off[:, 0] + c * off[:, 1]  # (E,) m
-    axis = yaw + sonar.angles[echo]
-    steps = np.arange(-cell, beyond + 1e-9, cell / 4)  # quarter cells: no cell skipped
-    along = np.maximum(r[echo][:, None] + steps, 0.0)  # (E, S) m from the sonar
-    px, py = sx[:, None] + along * np.cos(axis)[:, None], sy[:, None] + along * np.sin(axis)[:, None]
-    rows, cols = np.floor((py - frame.ymin) / cell).astype(np.intp), np.floor((px - frame.xmin) / cell).astype(np.intp)
-    h, w = frame.shape
-    inside = (rows >= 0) & (rows < h) & (cols >= 0) & (cols < w)
-    flat = np.where(inside, rows * w + cols, 0)
-    occupied = inside & (values.reshape(-1).take(flat) > UNKNOWN)
-    first = occupied.argmax(axis=1)
-    hit = occupied[np.arange(len(echo)), first]
-    return np.unique(flat[np.flatnonzero(hit), first[hit]])
-
-
-def record_axis_hits(hits: np.ndarray, cells: np.ndarray, increment: int, c_max: int) -> None:
-    """HIMM's increment, in place: ``hits`` (H, W) uint8 gains ``increment`` on the flat
-    ``cells``, capped at ``c_max``."""
-    flat = hits.reshape(-1)
-    flat[cells] = np.minimum(flat.take(cells).astype(np.int32) + increment, c_max).astype(hits.dtype)
-
-
 def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
-                c_max: float, hits: np.ndarray | None = None, whole_within: float = 0.0) -> ActiveWindow:
+                c_max: float) -> ActiveWindow:
     """The cells with certainty > 0 within ``radius`` m of ``xy``, in row-major order: the
     active window of the occupancy ``values`` (H, W) 0..100 laid out by ``frame``. Reads only
-    the window's square of the live map, and converts only its cells above 50 (certainty > 0).
-    With ``hits`` (H, W) (HIMM counts, :func:`record_axis_hits`) a cell's certainty is the
-    smaller of the two and cells no sonar axis hit drop out."""
+    the window's square of the live map, and converts only its cells above 50 (certainty > 0)."""
     cell = frame.cell
     h, w = frame.shape
     x, y = float(xy[0]), float(xy[1])
@@ -228,13 +170,8 @@ def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: fl
     cx, cy = xs[cs:ce].take(cc), ys[rs:re].take(rr)
     dx, dy = cx - x, cy - y
     dist = np.hypot(dx, dy)
-    keep = dist <= radius
-    if hits is not None:
-        far = dist >= whole_within
-        np.minimum(cert, hits[rs:re, cs:ce][above], out=cert, where=far)
-        keep &= cert > 0
-    if not keep.all():  # the square's corners, cells no axis hit: keep the rest
-        near = np.flatnonzero(keep)
+    if dist.max(initial=0.0) > radius:  # the square's corners: keep the disc
+        near = np.flatnonzero(dist <= radius)
         cx, cy, cert, dx, dy, dist = (a.take(near) for a in (cx, cy, cert, dx, dy, dist))
     return ActiveWindow(cx, cy, cert, dx, dy, dist)
 
@@ -454,13 +391,6 @@ class VFHPlus(Planner):
         Param("cell", 0.1, "m", "side of the occupancy grid's cells", minimum=0.01),
         Param("c_max", 15, "-", "certainty of a cell the grid holds certainly occupied (occupancy 100)",
               minimum=1),
-        Param("axis_increment", 0, "-", "HIMM reading (opt-in, see the module docstring): certainty gained per "
-              "echo by the cell a sonar axis hits (Borenstein & Koren 1991: 3); 0 reads the whole shared map",
-              minimum=0),
-        Param("axis_beyond", 0.15, "m", "HIMM reading: how far past the echo's range the first occupied cell on "
-              "a sonar axis is looked for", minimum=0.0),
-        Param("axis_only_beyond", 1.0, "m", "HIMM reading: cells nearer than this count whole (six sonars leave "
-              "their axes 30 deg apart)", minimum=0.0),
         Param("window_radius", 1.6, "m", "radius of the active window around the robot", minimum=0.1),
         Param("sector_deg", 5.0, "deg", "angular width of a histogram sector", minimum=0.5, maximum=45.0),
         Param("safety_distance", 0.05, "m", "distance added to the robot radius to enlarge cells", minimum=0.0),
@@ -490,7 +420,6 @@ class VFHPlus(Planner):
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
         self.frame = GridFrame.from_bounds(self.grid.bounds, self.grid.cell)
-        self.hits = np.zeros(self.frame.shape, dtype=np.uint8) if p.axis_increment > 0 else None
         self.n = max(4, round(360.0 / p.sector_deg))
         self.alpha = 2 * math.pi / self.n
         self.binary = np.zeros(self.n, dtype=bool)
@@ -508,34 +437,23 @@ class VFHPlus(Planner):
         p = self.settings
         robot = obs.robot
         self.grid.update(obs.pose, obs.ranges, obs.robot.sonar)
-        values = self.grid.values(copy=False)
-        if self.hits is not None:
-            record_axis_hits(self.hits, axis_hit_cells(values, self.frame, obs.pose, obs.ranges, robot.sonar,
-                                                       p.axis_beyond), int(p.axis_increment), int(p.c_max))
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         yaw = float(obs.pose[2])
         d_goal = float(np.hypot(*(goal - xy)))
         r_rs = robot.radius + p.safety_distance
         # obstacles beyond the goal cannot block the way to it: the window shrinks to the goal
-        radius = min(p.window_radius, d_goal)
-        whole = read_window(values, self.frame, xy, radius, p.c_max)
-        whole_bearings = whole.bearings()
-        if self.hits is None:
-            window, bearings = whole, whole_bearings
-        else:
-            window = read_window(values, self.frame, xy, radius, p.c_max, self.hits, p.axis_only_beyond)
-            bearings = window.bearings()
+        window = read_window(self.grid.values(copy=False), self.frame, xy, min(p.window_radius, d_goal),
+                             p.c_max)
+        bearings = window.bearings()
         self.primary = window_histogram(window, bearings, self.n, r_rs, p.window_radius, p.distance_weight)
-        self.density = (self.primary if self.hits is None else
-                        window_histogram(whole, whole_bearings, self.n, r_rs, p.window_radius, p.distance_weight))
         self.binary = binary_histogram(self.primary, self.binary, p.threshold_low, p.threshold_high)
         radius_turn = abs(self.v_prev) / robot.omega_max
-        phi_r, phi_l = window_turning_limits(whole, whole_bearings, obs.pose, radius_turn, r_rs, p.mask_certainty)
+        phi_r, phi_l = window_turning_limits(window, bearings, obs.pose, radius_turn, r_rs, p.mask_certainty)
         self.masked = masked_histogram(self.binary, yaw, phi_r, phi_l)
         k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
         k_heading = self._sector(yaw)
         # relaxed thresholds must not open a sector toward a cell within r_rs + one cell
-        near = (near_sectors(np.stack([whole.x, whole.y], axis=1), whole.certainty, xy, self.n, r_rs,
+        near = (near_sectors(np.stack([window.x, window.y], axis=1), window.certainty, xy, self.n, r_rs,
                              r_rs + p.cell, p.mask_certainty)
                 if self.masked.all() else None)
         k, self.masked, factor = select_direction(
@@ -558,9 +476,7 @@ class VFHPlus(Planner):
         if abs(err) > math.radians(p.turn_in_place_deg):
             v = 0.0
         else:
-            heading_sector = round(k_heading) % self.n
-            density = max(float(self.primary[heading_sector]),
-                          min(float(self.density[heading_sector]), 0.75 * slow))
+            density = float(self.primary[round(k_heading) % self.n])
             v = v_top * (1.0 - min(density, slow) / slow)
             v = arrival_speed(d_goal, v) * max(0.0, math.cos(err))
         cmd = limit(v, omega, robot)

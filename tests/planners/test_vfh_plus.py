@@ -10,12 +10,11 @@ import math
 import numpy as np
 import pytest
 
-from nav_bench.interface import GridState, SonarInfo, StuckReason
+from nav_bench.interface import GridState, StuckReason
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.planners.vfh_plus import (
     VFHPlus,
     active_cells,
-    axis_hit_cells,
     binary_histogram,
     candidate_directions,
     certainty_from_occupancy,
@@ -23,12 +22,9 @@ from nav_bench.planners.vfh_plus import (
     masked_histogram,
     near_sectors,
     polar_histogram,
-    read_window,
-    record_axis_hits,
     relax_factors,
     select_direction,
     turning_limits,
-    window_histogram,
 )
 from nav_bench.testing.harness import (
     BoxWorld,
@@ -36,7 +32,6 @@ from nav_bench.testing.harness import (
     observe,
     open_room,
     run,
-    sense,
     u_world,
     wall_world,
 )
@@ -345,86 +340,3 @@ def test_passes_a_one_metre_door_in_the_simulator() -> None:
     xy = result.trace.true_pose[:, :2]
     crossing = xy[np.argmax(xy[:, 0] > 5.0)]
     assert 3.5 < crossing[1] < 4.5  # through the door
-
-
-def test_himm_hits_the_first_occupied_cell_on_the_axis_three_at_a_time() -> None:
-    """One sonar on the robot's centre looking along +x at a wall x 3.0..3.1 (column 30): an
-    echo at 0.9 m (the wall's face is 0.95 m away) hits the wall's cell, +3 per reading up to
-    c_max = 15; no echo hits nothing."""
-    frame = GridFrame.from_bounds((0.0, 0.0, 4.0, 4.0), 0.1)
-    values = np.zeros(frame.shape, dtype=np.uint8)
-    values[:, 30] = 100
-    sonar = SonarInfo(angles=np.zeros(1), offsets=np.zeros((1, 2)), cone=math.radians(25.0),
-                      min_range=0.05, max_range=3.0)
-    pose = np.array([2.05, 2.05, 0.0])
-    cells = axis_hit_cells(values, frame, pose, np.array([0.9]), sonar, 0.15)
-    assert cells.tolist() == [20 * frame.cols + 30]
-    hits = np.zeros(frame.shape, dtype=np.uint8)
-    counts = []
-    for _ in range(6):
-        record_axis_hits(hits, cells, 3, 15)
-        counts.append(int(hits[20, 30]))
-    assert counts == [3, 6, 9, 12, 15, 15] and int(hits.sum()) == 15
-    assert axis_hit_cells(values, frame, pose, np.array([3.0]), sonar, 0.15).size == 0
-
-
-def corridor_with_an_end_wall() -> tuple[GridFrame, np.ndarray, BoxWorld]:
-    """A 1 m maze corridor (x 1.5..2.5) up to its end wall (y 4.0..4.1); the way on turns east
-    at y 3..4. The shared map as the sonars draw it after a few passes: every wall cell certain
-    (100), one cell thick; inside free; the world the sonars see."""
-    frame = GridFrame.from_bounds((0.0, 0.0, 4.0, 4.2), 0.1)
-    values = np.full(frame.shape, 50, dtype=np.uint8)
-    values[:40, 15:25] = 0  # the corridor
-    values[30:40, 25:40] = 0  # the way on, east
-    values[:40, 14] = 100  # left wall x 1.4..1.5
-    values[:30, 25] = 100  # right wall x 2.5..2.6, up to the turn
-    values[40, 14:40] = 100  # end wall y 4.0..4.1
-    world = BoxWorld.room((4.0, 4.0), [(1.4, 0.0, 1.5, 4.0), (2.5, 0.0, 2.6, 3.0), (2.6, 0.0, 4.0, 3.0)])
-    return frame, values, world
-
-
-def test_a_corridors_end_wall_1_4_m_ahead_leaves_the_way_on_open() -> None:
-    """Driving up the corridor's centre line (0.05 m a reading), the sonar axes hit the end wall
-    only near the turn's corner (x 2.3..2.6), so 1.4 m before it the sectors 75..105 deg hold
-    less than threshold_low = 1500: the way on is open. Read whole, the same map sums the end
-    wall's cells within r_rs = 0.25 m of each ray, 1.45 m ahead (225 (1 + 4 (1.6^2 - d^2)),
-    580..635 each): 2542.5..3082.5, over threshold_high = 2500, the shuttle's block. 0.5 m
-    before the wall (within axis_only_beyond = 1 m) both readings agree ahead: blocked."""
-    frame, values, world = corridor_with_an_end_wall()
-    robot = default_robot()
-    hits = np.zeros(frame.shape, dtype=np.uint8)
-
-    def histograms(xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        out = []
-        for h in (hits, None):
-            window = read_window(values, frame, xy, 1.6, 15.0, h, 1.0)
-            out.append(window_histogram(window, window.bearings(), N, 0.25, 1.6, 4.0))
-        return out[0], out[1]
-
-    for i in range(59):  # y 0.6 .. 3.5
-        pose = np.array([2.0, 0.6 + 0.05 * i, math.pi / 2])
-        record_axis_hits(hits, axis_hit_cells(values, frame, pose, sense(world, pose, robot), robot.sonar, 0.15),
-                         3, 15)
-        if i == 40:  # y = 2.6: the end wall 1.4 m ahead
-            himm, whole = histograms(pose[:2])
-            np.testing.assert_allclose(himm[15:22], [903.24, 538.74, 84.24, 0.0, 0.0, 0.0, 0.0], atol=1e-6)
-            np.testing.assert_allclose(whole[15:21], [2542.5, 2812.5, 2992.5, 3082.5, 2992.5, 2812.5])
-            axis_hit = np.argwhere(hits[40] > 0).ravel().tolist()
-            assert axis_hit == [23, 24, 25] and hits[40, 23:26].tolist() == [6, 15, 15]
-    himm, whole = histograms(pose[:2])  # y = 3.5: the end wall 0.5 m ahead
-    assert himm[18] == pytest.approx(8982.0) and himm[18] > 2500.0
-    np.testing.assert_allclose(himm[14:23], whole[14:23])  # 70..110 deg: only cells within 1 m
-
-
-def test_himm_reading_is_opt_in() -> None:
-    """By default the histogram reads the whole shared map (no counts kept); with
-    ``axis_increment`` = 3 the planner counts the axes' hits: 3 per echo on the wall ahead."""
-    world, _start, goal = wall_world()
-    robot = default_robot()
-    obs = observe(world, np.array([3.0, 3.0, 0.0]), np.array(goal), robot, 0.0, 0.1)
-    default, himm = VFHPlus(), VFHPlus(axis_increment=3)
-    for planner in (default, himm):
-        planner.reset(obs, np.random.default_rng(0))
-        planner.act(obs)
-    assert default.hits is None
-    assert himm.hits is not None and set(np.unique(himm.hits).tolist()) == {0, 3}
