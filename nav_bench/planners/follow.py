@@ -168,6 +168,14 @@ class WallFollower:
     from ``side``. When no point lies within ``distance + reach`` m, the boundary has ended out
     of reach: the robot arcs toward ``side`` with radius ``distance`` to find it again.
 
+    Narrow passages (issue 12): held ``distance`` off one side of a passage the robot fits but
+    narrower than ``2 * distance`` (0.50-0.69 m in the generated offices and clutter), the front
+    sonars heard the other side through their cones' edges as a wall ahead, and the robot rocked.
+    When the followed boundary and the other side's beside echo (:meth:`other_side_clearance`)
+    span such a passage, the robot holds its middle, and an other-side front echo that the
+    cone's edge meeting that side explains is not a wall ahead unless the followed side's front
+    sonar hears the way blocked too. Measured: results/baselines/bugs_s7n/summary.md.
+
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
         distance: boundary distance to hold, m from the robot centre.
