@@ -117,6 +117,21 @@ def test_global_path_leads_round_a_wall_that_traps_plain_dwa() -> None:
     assert state["path"].shape[1] == 2 and state["pmo"].shape == (60, 80)
 
 
+@pytest.mark.parametrize("width", [1.05, 1.2])
+def test_dwa_global_turns_round_a_wall_end_between_two_corridors(width: float) -> None:
+    # a wall 2.2 m long splits a 4 m room into two corridors ``width`` wide, open at its far end;
+    # the goal is in the other corridor, just above the start: a U-turn round the wall's end.
+    # With its local goal 1 m along the path, DWA's straight line to it cut the corner, every
+    # arc came out blocked and the robot looped in the corridor until the time ran out
+    world = BoxWorld.room((4.0, 2 * width + 0.1), [(0.0, width, 2.2, width + 0.1)])
+    robot = default_robot(radius=0.18)
+    result = run(DWAGlobal(), world, (0.55, width / 2, 0.0), (0.55, 1.5 * width + 0.1),
+                 time_s=90.0, noise_std=0.01, robot=robot)
+    assert result.reached and result.collisions == 0
+    assert result.time < 25.0 and result.path_length < 5.5  # along the corridors: 4.2-4.4 m
+    assert result.poses[:, 0].max() > 2.2  # round the wall's end, not through it
+
+
 def test_use_grid_adds_the_occupied_cells_as_obstacles() -> None:
     world = BoxWorld.room((6.0, 1.2), [(4.0, 0.0, 6.0, 1.2)])
     plain = run(DWA(), world, (1.0, 0.6, 0.0), (5.0, 0.6), time_s=6.0)
