@@ -294,7 +294,11 @@ class WallFollower:
             else:
                 other = math.inf
         ahead = self._ahead(obs, other)
-        if ahead < self.front and (near is None or ahead <= near[0] + self.ahead_slack):
+        # in a narrow passage the followed side is nearer than ``distance``: the robot drives on
+        # until a wall ahead is as near as that side (+ ahead_slack) and then turns, rather than
+        # stop short of it, where neither rule below would move it again
+        front = self.front if math.isinf(other) else min(self.front, target + self.ahead_slack)
+        if ahead < front and (near is None or ahead <= near[0] + self.ahead_slack):
             # the nearest boundary is straight ahead: its tangent is a right angle away from
             # the side; turn on the spot until the way ahead is clear
             return limit(0.0, -self.side * 0.6 * robot.omega_max, robot)
@@ -303,7 +307,7 @@ class WallFollower:
         dist, bearing = near
         correction = max(-self.max_correction, min(self.max_correction, self.k_dist * (dist - target)))
         heading = bearing - self.side * math.pi / 2 + self.side * correction
-        return steer(obs, heading, 0.0 if ahead < self.front else v)
+        return steer(obs, heading, 0.0 if ahead < front else v)
 
 
 # ----------------------------------------------------------------------------- echo memory

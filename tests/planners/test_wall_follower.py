@@ -177,11 +177,13 @@ def test_a_wall_across_a_narrow_passage_closer_than_the_passage_is_wide_turns_th
     assert cmd.omega == pytest.approx(0.6 * robot.omega_max)
 
 
-@pytest.mark.xfail(strict=True, reason="known defect of the narrow-passage mode: at the end of "
-                   "a dead-end pocket narrower than 2 x distance the robot stops 0.42 m from the "
-                   "end wall and stands (ahead < front, but farther than the followed side + "
-                   "ahead_slack); turning there instead brought the rocking back in the episodes")
 def test_the_end_of_a_narrow_dead_end_pocket_turns_the_robot_back() -> None:
+    """A dead-end pocket narrower than 2 x distance: the robot drives to its end wall, turns
+    there and comes back out (it used to stop 0.42 m short of the end wall and stand: too far
+    to turn for, too near to drive on)."""
     world = passage_world((2.0, 6.0), 6.0)  # the room's east wall closes the passage
     poses = drive(WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45), world, (2.5, PASSAGE / 2, 0.0), 30.0)
-    assert poses[-1, 0] < 2.0  # back out of the pocket
+    deepest = int(np.argmax(poses[:, 0]))
+    assert poses[deepest, 0] > 5.5  # to within 0.5 m of the end wall (x = 6)
+    assert poses[deepest:, 0].min() < 2.0  # and back out of the pocket
+    assert min(world.clearance(p[:2]) for p in poses) > 0.2  # the test robot's radius: no contact
