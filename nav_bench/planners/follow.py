@@ -168,6 +168,14 @@ class WallFollower:
     from ``side``. When no point lies within ``distance + reach`` m, the boundary has ended out
     of reach: the robot arcs toward ``side`` with radius ``distance`` to find it again.
 
+    Narrow passages (issue 12): held ``distance`` off one side of a passage the robot fits but
+    narrower than ``2 * distance`` (0.50-0.69 m in the generated offices and clutter), the front
+    sonars heard the other side through their cones' edges as a wall ahead, and the robot rocked.
+    When the followed boundary and the other side's beside echo (:meth:`other_side_clearance`)
+    span such a passage, the robot holds its middle, and an other-side front echo that the
+    cone's edge meeting that side explains is not a wall ahead unless the followed side's front
+    sonar hears the way blocked too. Measured: results/baselines/bugs_s7n/summary.md.
+
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
         distance: boundary distance to hold, m from the robot centre.
@@ -184,6 +192,8 @@ class WallFollower:
     side_sonar_axis, side_sonar_window = math.pi / 2, math.radians(30.0)
     front_sonars = math.radians(30.0)  # sonars this close to the heading watch the way ahead
     ahead_slack = 0.1  # m: an echo ahead this much farther than the side's still counts as nearest
+    beside_sonars = math.radians(40.0)  # other-side sonars this far off the heading measure a passage
+    edge_slack = 0.08  # m: a front echo this close to the other side's edge range is that side
 
     def __init__(self, side: int, distance: float, speed: float, front: float,
                  k_dist: float = 2.0, memory_s: float = 3.0, reach: float = 0.6) -> None:
@@ -222,22 +232,82 @@ class WallFollower:
         i = int(np.argmin(np.where(on_side, dist, np.inf)))
         return float(dist[i]), float(bearing[i])
 
+    def other_side_clearance(self, obs: Observation) -> float:
+        """Lateral distance (m, from the robot centre) of the nearest echo on the side *not*
+        followed, from the sonars at least ``beside_sonars`` off the heading on that side, whose
+        echo point lies beside the robot or a little ahead (``-radius < x < front`` in the robot
+        frame); ``inf`` if none. With the followed boundary's distance it gives the
+        width of the passage the robot is in."""
+        s = obs.robot.sonar
+        p = robot_frame_hits(obs)[echo_mask(obs) & (-self.side * s.angles >= self.beside_sonars)]
+        beside = (p[:, 0] > -obs.robot.radius) & (p[:, 0] < self.front)
+        lateral = -self.side * p[beside, 1]
+        lateral = lateral[lateral > 0.0]
+        return float(lateral.min()) if len(lateral) else math.inf
+
+    def _edge_echo_explained(self, obs: Observation, other: float) -> np.ndarray:
+        """(K,) bool: sonars on the other side whose reading is within ``edge_slack`` of the
+        range at which their cone's outer edge meets a wall parallel to the heading at lateral
+        distance ``other`` (m): that echo is the passage's other side, heard through the cone's
+        edge and placed on the axis, not a wall ahead. (A reading much shorter or longer comes
+        from something else: the cone reports its nearest ray.)"""
+        s = obs.robot.sonar
+        off = -self.side * s.offsets[:, 1]  # mount's lateral offset toward the other side, m
+        edge = np.clip(-self.side * s.angles + s.cone / 2, 1e-3, math.pi / 2)
+        reach = (other - off) / np.sin(edge)  # range to that wall along the cone's edge, m
+        r = np.where(np.isfinite(obs.ranges), obs.ranges, s.max_range)
+        return (-self.side * s.angles > 0.0) & (np.abs(r - reach) <= self.edge_slack)
+
+    def _ahead(self, obs: Observation, other: float) -> float:
+        """:func:`obstacle_ahead` within ``front``, leaving out in a narrow passage (``other``
+        finite) the other side's front echoes that the passage's other side explains, as long
+        as the followed side's front sonars hear nothing in the corridor straight ahead."""
+        robot = obs.robot
+        half = corridor_half_width(robot)
+        ahead = obstacle_ahead(obs, self.front, half, within=self.front_sonars)
+        if not (ahead < self.front and math.isfinite(other)):
+            return ahead
+        s = robot.sonar
+        front = np.abs(s.angles) <= self.front_sonars
+        p = robot_frame_hits(obs)
+        in_corridor = echo_mask(obs) & front & (p[:, 0] > 0.0) & (p[:, 0] < self.front) & (np.abs(p[:, 1]) < half)
+        if np.any(in_corridor & (self.side * s.angles >= 0.0)):
+            return ahead  # the followed side's front sonar hears it too: a wall ahead
+        if np.all(self._edge_echo_explained(obs, other)[in_corridor]):
+            return math.inf
+        return ahead
+
     def act(self, obs: Observation) -> Command:
         robot = obs.robot
         self.observe(obs)
         v = min(self.speed, robot.v_max)
         near = self.nearest(obs)
-        ahead = obstacle_ahead(obs, self.front, corridor_half_width(robot), within=self.front_sonars)
-        if ahead < self.front and (near is None or ahead <= near[0] + self.ahead_slack):
+        target, other = self.distance, math.inf
+        if near is not None:
+            other = self.other_side_clearance(obs)
+            width = near[0] + other
+            if 2.0 * corridor_half_width(robot) <= width < 2.0 * self.distance:
+                # a passage the robot fits through but narrower than the follower's distance
+                # on both sides: hold its middle (narrower ones are part of the obstacle; slowing
+                # down here lost time-limited episodes: results/baselines/bugs_s7n/summary.md)
+                target = 0.5 * width
+            else:
+                other = math.inf
+        ahead = self._ahead(obs, other)
+        # in a narrow passage the followed side is nearer than ``distance``: the robot drives on
+        # until a wall ahead is as near as that side (+ ahead_slack) and then turns, rather than
+        # stop short of it, where neither rule below would move it again
+        front = self.front if math.isinf(other) else min(self.front, target + self.ahead_slack)
+        if ahead < front and (near is None or ahead <= near[0] + self.ahead_slack):
             # the nearest boundary is straight ahead: its tangent is a right angle away from
             # the side; turn on the spot until the way ahead is clear
             return limit(0.0, -self.side * 0.6 * robot.omega_max, robot)
         if near is None:  # the boundary ended out of reach: arc round toward it
             return limit(0.6 * v, self.side * 0.6 * v / max(self.distance, 1e-3), robot)
         dist, bearing = near
-        correction = max(-self.max_correction, min(self.max_correction, self.k_dist * (dist - self.distance)))
+        correction = max(-self.max_correction, min(self.max_correction, self.k_dist * (dist - target)))
         heading = bearing - self.side * math.pi / 2 + self.side * correction
-        return steer(obs, heading, 0.0 if ahead < self.front else v)
+        return steer(obs, heading, 0.0 if ahead < front else v)
 
 
 # ----------------------------------------------------------------------------- echo memory

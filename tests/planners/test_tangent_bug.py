@@ -150,8 +150,10 @@ def replay_commands(name: str, planner: Planner) -> tuple[np.ndarray, np.ndarray
     """Feed the observations recorded in ``tests/data/planner_replay/<name>.npz`` to
     ``planner``; its commands (N, 2) and the recorded ones. The files are real PyBullet
     episodes (seed 0) written by ``benchmarks/bench_tangent_bug.py --record``; the DWA one with
-    main's code at f4bd289, before issue 16's speed-ups; the TangentBug and Bug2 ones again on
-    branch s6follow (issue 12's wall follower changed their commands: ``--record DIR
+    main's code at f4bd289, before issue 16's speed-ups; the TangentBug and Bug2 ones again
+    whenever issue 12's wall follower changed their commands (s6follow, then the seventh
+    session's narrow-passage mode, which changed the TangentBug labyrinth and 40 m clutter
+    ones): ``--record DIR
     --planners tangent_bug --worlds clutter_40m,concave_trap,labyrinth,very_complex --time-s
     60`` and ``--planners bug2 --worlds very_complex --time-s 40``)."""
     with np.load(REPLAY / f"{name}.npz") as stored:

@@ -103,7 +103,10 @@ def test_a_gap_narrower_than_the_robot_is_part_of_the_obstacle(gap: float) -> No
     assert len(along_box) > 0 and along_box[:, 1].min() > box[3]  # over the box, never under it
     beyond = poses[poses[:, 0] > box[2] + 1.0]
     assert len(beyond) > 10  # and on along the wall past it, at its distance
-    assert beyond[:, 1] == pytest.approx(0.45, abs=0.1)  # settling after the corner
+    # settling after the corner: the box's corner, heard beside the robot as it comes down,
+    # reads as a passage 0.5 m wide for a few cycles and pulls it to 0.34 m (main: 0.35 m)
+    assert beyond[:, 1] == pytest.approx(0.45, abs=0.12)
+    assert beyond[-20:, 1] == pytest.approx(0.45, abs=0.02)
 
 
 def test_a_gap_the_robot_passes_is_entered() -> None:
@@ -114,3 +117,73 @@ def test_a_gap_the_robot_passes_is_entered() -> None:
     under = poses[(poses[:, 0] > box[0]) & (poses[:, 0] < box[2])]
     assert len(under) > 0 and under[:, 1].max() < box[1]
     assert poses[-1, 0] > 6.0
+
+
+
+def spun_on_the_spot(poses: np.ndarray, region: np.ndarray) -> float:
+    """Seconds of the drive (poses (T+1, 3), DT apart) spent in ``region`` (T+1,) bool turning
+    faster than 0.5 rad/s while moving under 2 cm/s: turns on the spot."""
+    step = np.hypot(np.diff(poses[:, 0]), np.diff(poses[:, 1]))
+    turn = np.abs(np.remainder(np.diff(poses[:, 2]) + math.pi, 2 * math.pi) - math.pi)
+    spinning = (step < 0.02 * DT) & (turn > 0.5 * DT) & region[1:]
+    return float(spinning.sum()) * DT
+
+
+PASSAGE = 0.55  # m: between the followed wall (y = 0) and a box; the test robot is 0.4 m wide
+
+
+def passage_world(box_x: tuple[float, float], room_x: float) -> BoxWorld:
+    """A room with a box whose underside leaves a ``PASSAGE`` m passage over the wall y = 0."""
+    return BoxWorld.room((room_x, 4.0), [(box_x[0], PASSAGE, box_x[1], PASSAGE + 0.6)])
+
+
+def test_the_width_of_a_narrow_passage_is_heard_on_the_other_side() -> None:
+    """In the middle of the passage the followed wall is 0.275 m to the right and the box's
+    underside about as far to the left (the beside sonars' cones place it 2 cm nearer)."""
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    obs = observe(passage_world((2.0, 6.0), 10.0), np.array([3.0, PASSAGE / 2, 0.0]),
+                  np.array([100.0, 100.0]), default_robot(), 0.0, DT, rays=7)
+    dist, _ = follower.nearest(obs)
+    assert dist == pytest.approx(PASSAGE / 2, abs=0.005)
+    assert follower.other_side_clearance(obs) == pytest.approx(PASSAGE / 2, abs=0.03)
+
+
+def test_a_narrow_passage_the_robot_fits_is_driven_through_its_middle() -> None:
+    """Issue 12: a 0.55 m passage between the followed wall and a box, wider than the 0.4 m
+    test robot plus 5 cm a side but narrower than twice the 0.4 m follower distance (the bug
+    planners' settings). Steering to 0.4 m off its wall, main's follower heard the box through
+    its left front sonar's cone edge as a wall ahead, turned on the spot and rocked at the
+    passage's mouth (7 s of turns on the spot, never past x = 2.5). The narrow-passage mode
+    holds the middle and drives through without turning on the spot."""
+    world = passage_world((2.0, 4.0), 10.0)
+    poses = drive(WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45), world, (2.2, PASSAGE / 2, 0.0), 20.0)
+    clearance = np.array([world.clearance(p[:2]) for p in poses])
+    assert clearance.min() > 0.2  # the robot's radius: no contact
+    inside = poses[:, 0] < 4.0
+    assert poses[inside, 1] == pytest.approx(PASSAGE / 2, abs=0.025)  # in the passage's middle
+    assert spun_on_the_spot(poses, poses[:, 0] < 5.0) == 0.0
+    assert poses[-1, 0] > 8.0  # and on along the wall beyond
+
+
+def test_a_wall_across_a_narrow_passage_closer_than_the_passage_is_wide_turns_the_robot() -> None:
+    """A wall across the passage, 0.35 m ahead of the centre, is heard by both front sonars:
+    the robot turns on the spot away from its side (counter-clockwise, the wall on its right)."""
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    robot = default_robot()
+    obs = observe(passage_world((2.0, 6.0), 6.0), np.array([5.65, PASSAGE / 2, 0.0]),
+                  np.array([100.0, 100.0]), robot, 0.0, DT, rays=7)
+    cmd = follower.act(obs)
+    assert cmd.v == 0.0
+    assert cmd.omega == pytest.approx(0.6 * robot.omega_max)
+
+
+def test_the_end_of_a_narrow_dead_end_pocket_turns_the_robot_back() -> None:
+    """A dead-end pocket narrower than 2 x distance: the robot drives to its end wall, turns
+    there and comes back out (it used to stop 0.42 m short of the end wall and stand: too far
+    to turn for, too near to drive on)."""
+    world = passage_world((2.0, 6.0), 6.0)  # the room's east wall closes the passage
+    poses = drive(WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45), world, (2.5, PASSAGE / 2, 0.0), 30.0)
+    deepest = int(np.argmax(poses[:, 0]))
+    assert poses[deepest, 0] > 5.5  # to within 0.5 m of the end wall (x = 6)
+    assert poses[deepest:, 0].min() < 2.0  # and back out of the pocket
+    assert min(world.clearance(p[:2]) for p in poses) > 0.2  # the test robot's radius: no contact
