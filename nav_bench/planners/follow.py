@@ -174,7 +174,8 @@ class WallFollower:
     When the followed boundary and the other side's beside echo (:meth:`other_side_clearance`)
     span such a passage, the robot holds its middle, and an other-side front echo that the
     cone's edge meeting that side explains is not a wall ahead unless the followed side's front
-    sonar hears the way blocked too. Measured: results/baselines/bugs_s7n/summary.md.
+    sonar hears the way blocked too; it drives on until a wall ahead is as near as its side
+    (plus ``ahead_slack``), then turns on the spot. Measured: results/baselines/bugs_s7n/summary.md.
 
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
@@ -268,9 +269,9 @@ class WallFollower:
         if not (ahead < self.front and math.isfinite(other)):
             return ahead
         s = robot.sonar
-        front = np.abs(s.angles) <= self.front_sonars
+        watching = np.abs(s.angles) <= self.front_sonars  # the sonars that watch the way ahead
         p = robot_frame_hits(obs)
-        in_corridor = echo_mask(obs) & front & (p[:, 0] > 0.0) & (p[:, 0] < self.front) & (np.abs(p[:, 1]) < half)
+        in_corridor = echo_mask(obs) & watching & (p[:, 0] > 0.0) & (p[:, 0] < self.front) & (np.abs(p[:, 1]) < half)
         if np.any(in_corridor & (self.side * s.angles >= 0.0)):
             return ahead  # the followed side's front sonar hears it too: a wall ahead
         if np.all(self._edge_echo_explained(obs, other)[in_corridor]):
