@@ -296,8 +296,8 @@ class OccupancyGrid(OnGridFrame):
             self._ring_of = sonar
         ring = self._ring
         self._ensure_disc(sonar.max_range + half_t + ring.mount_reach + cell)
-        # the robot's cell and its centre: GridFrame.world_to_cell and cell_center in scalars
-        r0, c0 = math.floor((y - frame.ymin) / cell), math.floor((x - frame.xmin) / cell)
+        # the robot's cell and its centre: GridFrame.cell_center in scalars
+        r0, c0 = frame.cell_of(x, y)
         cx0, cy0 = frame.xmin + (c0 + 0.5) * cell, frame.ymin + (r0 + 0.5) * cell
         half_cone = sonar.cone / 2
         tan_half = math.tan(half_cone)

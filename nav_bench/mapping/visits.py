@@ -38,8 +38,7 @@ class VisitGrid(OnGridFrame):
         if not (math.isfinite(x) and math.isfinite(y)):
             return False
         frame = self.frame
-        # GridFrame.world_to_cell and contains, in scalars (the same floating-point operations)
-        row, col = math.floor((y - frame.ymin) / frame.cell), math.floor((x - frame.xmin) / frame.cell)
+        row, col = frame.cell_of(x, y)
         if not (0 <= row < frame.rows and 0 <= col < frame.cols):
             return False
         self.counts[row, col] += 1

@@ -444,11 +444,11 @@ class DWA(Planner):
 
 def occupied_points(grid: OccupancyGrid, xy: np.ndarray, reach: float, above: float) -> np.ndarray:
     """(M, 2) centres of the cells of ``grid`` above ``above`` within ``reach`` m of ``xy``
-    (row-major; :meth:`~nav_bench.mapping.grid.GridFrame.world_to_cell` and ``cell_center``'s
+    (row-major; :meth:`~nav_bench.mapping.grid.GridFrame.cell_of` and ``cell_center``'s
     arithmetic in Python floats: the same cells and centres)."""
     f = grid.frame
     x, y = float(xy[0]), float(xy[1])
-    r0, c0 = math.floor((y - f.ymin) / f.cell), math.floor((x - f.xmin) / f.cell)
+    r0, c0 = f.cell_of(x, y)
     n = math.ceil(reach / f.cell)
     rs, re = max(0, r0 - n), min(f.rows, r0 + n + 1)
     cs, ce = max(0, c0 - n), min(f.cols, c0 + n + 1)

@@ -58,8 +58,14 @@ def obstacle_ahead(obs: Observation, distance: float, half_width: float,
     robot lands inside the corridor ahead, although the way ahead is open.
     """
     p = robot_frame_hits(obs)[echo_mask(obs) & (np.abs(obs.robot.sonar.angles) <= within)]
-    inside = (p[:, 0] > 0.0) & (p[:, 0] < distance) & (np.abs(p[:, 1]) < half_width)
+    inside = in_corridor(p, distance, half_width)
     return float(p[inside, 0].min()) if inside.any() else math.inf
+
+
+def in_corridor(points: np.ndarray, distance: float, half_width: float) -> np.ndarray:
+    """(M,) bool: robot-frame ``points`` (M, 2) inside the corridor ahead, ``0 < x < distance``
+    and ``|y| < half_width`` (m)."""
+    return (points[:, 0] > 0.0) & (points[:, 0] < distance) & (np.abs(points[:, 1]) < half_width)
 
 
 def free_along(points: np.ndarray, origin: np.ndarray, heading: float, length: float,
@@ -270,11 +276,10 @@ class WallFollower:
             return ahead
         s = robot.sonar
         watching = np.abs(s.angles) <= self.front_sonars  # the sonars that watch the way ahead
-        p = robot_frame_hits(obs)
-        in_corridor = echo_mask(obs) & watching & (p[:, 0] > 0.0) & (p[:, 0] < self.front) & (np.abs(p[:, 1]) < half)
-        if np.any(in_corridor & (self.side * s.angles >= 0.0)):
+        blocking = echo_mask(obs) & watching & in_corridor(robot_frame_hits(obs), self.front, half)
+        if np.any(blocking & (self.side * s.angles >= 0.0)):
             return ahead  # the followed side's front sonar hears it too: a wall ahead
-        if np.all(self._edge_echo_explained(obs, other)[in_corridor]):
+        if np.all(self._edge_echo_explained(obs, other)[blocking]):
             return math.inf
         return ahead
 

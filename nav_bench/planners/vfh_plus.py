@@ -154,7 +154,7 @@ def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: fl
     cell = frame.cell
     h, w = frame.shape
     x, y = float(xy[0]), float(xy[1])
-    r0, c0 = math.floor((y - frame.ymin) / cell), math.floor((x - frame.xmin) / cell)  # world_to_cell
+    r0, c0 = frame.cell_of(x, y)
     n = math.ceil(radius / cell) + 1
     rs, re = max(r0 - n, 0), min(r0 + n + 1, h)
     cs, ce = max(c0 - n, 0), min(c0 + n + 1, w)
