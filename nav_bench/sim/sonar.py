@@ -64,12 +64,13 @@ def noisy_readings(ranges: np.ndarray, hit: np.ndarray, spec: SonarSpec,
     k = len(ranges)
     noise = rng.standard_normal(k)
     noise *= spec.noise_std
-    lost = rng.random(k) < spec.dropout
-    # np.minimum/np.maximum: the same values as np.clip at a fraction of its call overhead
-    echo = np.minimum(np.maximum(ranges + noise, spec.min_range), spec.max_range)
-    out = np.where(hit, echo, spec.max_range)
-    out[lost] = spec.max_range
-    return out
+    lost = (rng.random(k) < spec.dropout).tolist()
+    # six values: Python floats cost a fraction of NumPy's per-call overhead, with the same
+    # IEEE operations (min/max of non-NaN floats as np.minimum/np.maximum)
+    lo, hi = spec.min_range, spec.max_range
+    return np.array([min(max(r + e, lo), hi) if h and not gone else hi
+                     for r, e, h, gone in zip(ranges.tolist(), noise.tolist(), hit.tolist(), lost,
+                                              strict=True)])
 
 
 class SonarArray:
@@ -121,12 +122,11 @@ class SonarArray:
         results = self._cast(starts.tolist(), ends.tolist(), collisionFilterMask=RAY_MASK)
         # one pass over PyBullet's tuples; a miss (object id -1) gets MISS, above any hit's
         # fraction (at most 1), so a cone's minimum is its nearest hit if it has one
-        fraction = np.array([r[2] if r[0] >= 0 else MISS for r in results])
-        nearest = fraction.reshape(self.count, self.rays).min(axis=1)
-        cone_hit = nearest <= 1.0
-        distance = nearest * self._max_range
-        ranges = np.where(cone_hit, np.minimum(np.maximum(distance, self._min_range),
-                                               self._max_range), self._max_range)
+        fraction = [r[2] if r[0] >= 0 else MISS for r in results]
+        n, lo, hi = self.rays, self._min_range, self._max_range
+        nearest = [min(fraction[i:i + n]) for i in range(0, len(fraction), n)]
+        cone_hit = np.array([f <= 1.0 for f in nearest])
+        ranges = np.array([min(max(f * hi, lo), hi) if f <= 1.0 else hi for f in nearest])
         self._last = (starts, direction.copy(), fraction)
         return ranges, cone_hit
 
@@ -134,7 +134,8 @@ class SonarArray:
         """The rays of the last :meth:`cast`, for drawing (``None`` before the first)."""
         if self._last is None:
             return None
-        starts, direction, fraction = self._last
+        starts, direction, fractions = self._last
+        fraction = np.array(fractions)
         hit = fraction <= 1.0
         reach = np.where(hit, fraction, 1.0) * self._max_range
         return RayBundle(starts=starts, ends=starts + reach[:, None] * direction, hit=hit)
