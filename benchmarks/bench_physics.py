@@ -72,11 +72,15 @@ class PhysicsSetting:
     iterations: int = 50
     # 1/s: contact ERP = recovery / hz (SimSession's contact_recovery_hz); None: Bullet's own ERP
     recovery: float | None = None
+    # m/s: the solver stops early below this velocity error (SimSession's solver_residual);
+    # None: Bullet's own (1e-7)
+    residual: float | None = None
 
     @property
     def name(self) -> str:
         erp = "" if self.recovery is None else f" / ERP {self.recovery:g}/hz"
-        return f"{self.hz:g} Hz / {self.iterations} it{erp}"
+        res = "" if self.residual is None else f" / residual {self.residual:g}"
+        return f"{self.hz:g} Hz / {self.iterations} it{erp}{res}"
 
     @property
     def steps_per_cycle(self) -> int:
@@ -91,6 +95,9 @@ SETTINGS = (REFERENCE, PhysicsSetting(120.0), PhysicsSetting(80.0), PhysicsSetti
             PhysicsSetting(80.0, 50, 20.0), PhysicsSetting(60.0, 50, 20.0),
             PhysicsSetting(40.0, 50, 20.0), PhysicsSetting(30.0, 50, 20.0),
             PhysicsSetting(60.0, 50, 30.0))
+# the shipped setting (60 Hz, contact recovery 20/s) with looser solver stopping thresholds
+RESIDUAL_SETTINGS = (REFERENCE, PhysicsSetting(60.0, 50, 20.0),
+                     *(PhysicsSetting(60.0, 50, 20.0, r) for r in (1e-5, 1e-4, 1e-3, 1e-2)))
 QUICK_SETTINGS = (REFERENCE, PhysicsSetting(120.0), PhysicsSetting(60.0),
                   PhysicsSetting(60.0, 20), PhysicsSetting(240.0, 50, 20.0),
                   PhysicsSetting(60.0, 50, 20.0))
@@ -128,6 +135,7 @@ def world(start: tuple[float, float, float], obstacles: list | None = None,
 
 def open_sim(session: SimSession, spec: WorldSpec, setting: PhysicsSetting) -> Simulation:
     session.solver_iterations, session.contact_recovery_hz = setting.iterations, setting.recovery
+    session.solver_residual = setting.residual
     session.reset(setting.hz)  # applies the rate, the iterations and the contact ERP
     return Simulation(session, spec, exact_robot(), np.random.default_rng(0), setting.hz)
 
@@ -263,7 +271,7 @@ def measure_cost(setting: PhysicsSetting, repeats: int) -> dict[str, float]:
     settings = EpisodeSettings(physics_hz=setting.hz, record_trace=False)
     for _ in range(repeats):
         with SimSession(physics_hz=setting.hz, solver_iterations=setting.iterations,
-                        contact_recovery_hz=setting.recovery) as session:
+                        contact_recovery_hz=setting.recovery, solver_residual=setting.residual) as session:
             sim = open_sim(session, world((2.0, 2.0, 0.0)), setting)
             sim.apply(Command(0.3, 0.2))
             sim.step(setting.steps_per_cycle * 10)
@@ -362,17 +370,19 @@ def markdown(results: list[Fidelity], header: str) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true", help="fewer settings and repeats")
+    parser.add_argument("--residual", action="store_true",
+                        help="the shipped setting with looser solver stopping thresholds")
     parser.add_argument("--repeats", type=int, default=3, help="cost repeats per setting")
     parser.add_argument("--out", default="results/fidelity", help="folder for physics.md/json")
     args = parser.parse_args()
-    settings = QUICK_SETTINGS if args.quick else SETTINGS
+    settings = RESIDUAL_SETTINGS if args.residual else QUICK_SETTINGS if args.quick else SETTINGS
     repeats = 1 if args.quick else args.repeats
     results = [Fidelity(s.name, s.hz, s.iterations) for s in settings]
     for setting, res in zip(settings, results, strict=True):
         # a session per setting: Bullet keeps a contact ERP once set, and has no call to
         # restore its own
         with SimSession(physics_hz=setting.hz, solver_iterations=setting.iterations,
-                        contact_recovery_hz=setting.recovery) as session:
+                        contact_recovery_hz=setting.recovery, solver_residual=setting.residual) as session:
             res.tracking = measure_tracking(session, setting)
             res.odometry = measure_odometry(session, setting)
             res.stopping = measure_stopping(session, setting)
@@ -391,7 +401,7 @@ def main() -> None:
     compare(results)
     header = (f"## Physics fidelity vs {REFERENCE.name} (control at {CONTROL_HZ:g} Hz, "
               "odometry noise off)\n\nMeasured by `PYTHONPATH=. python benchmarks/bench_physics.py"
-              f"{' --quick' if args.quick else ''}` ({time.strftime('%Y-%m-%d')}).")
+              f"{' --quick' if args.quick else ''}{' --residual' if args.residual else ''}` ({time.strftime('%Y-%m-%d')}).")
     text = markdown(results, header)
     print(text)
     out = Path(args.out)

@@ -18,7 +18,12 @@ from pathlib import Path
 
 from nav_bench.batch.suite import expand, load_suite
 from nav_bench.batch.worker import run_job
-from nav_bench.sim.session import CONTACT_RECOVERY_HZ, SOLVER_ITERATIONS, SimSession
+from nav_bench.sim.session import (
+    CONTACT_RECOVERY_HZ,
+    SOLVER_ITERATIONS,
+    SOLVER_RESIDUAL,
+    SimSession,
+)
 
 
 def main() -> None:
@@ -30,6 +35,9 @@ def main() -> None:
     parser.add_argument("--contact-recovery", type=float, default=CONTACT_RECOVERY_HZ,
                         help="1/s; 0: Bullet's own contact ERP")
     parser.add_argument("--solver-iterations", type=int, default=SOLVER_ITERATIONS)
+    parser.add_argument("--solver-residual", type=float, default=SOLVER_RESIDUAL,
+                        help="m/s: Bullet's solver stops iterating below this velocity error "
+                             "(default: the session's default)")
     parser.add_argument("--out", required=True, help="folder for episodes.jsonl")
     args = parser.parse_args()
     jobs = [j for j in expand(load_suite(args.suite))
@@ -39,7 +47,8 @@ def main() -> None:
     out.mkdir(parents=True, exist_ok=True)
     recovery = args.contact_recovery or None
     with SimSession(physics_hz=args.physics_hz, contact_recovery_hz=recovery,
-                    solver_iterations=args.solver_iterations) as session, \
+                    solver_iterations=args.solver_iterations,
+                    solver_residual=args.solver_residual) as session, \
             open(out / "episodes.jsonl", "w", encoding="utf-8") as fh:
         for job in jobs:
             job.settings["physics_hz"] = args.physics_hz
@@ -47,7 +56,8 @@ def main() -> None:
             row = run_job(job, session).row.to_json()
             row.update(label=job.label, seed=job.seed, wall_s=time.perf_counter() - start,
                        engine={"contact_recovery_hz": recovery,
-                               "solver_iterations": args.solver_iterations})
+                               "solver_iterations": args.solver_iterations,
+                               "solver_residual": args.solver_residual})
             fh.write(json.dumps(row) + "\n")
             fh.flush()
             print(f"{job.world_name} {job.label} s{job.seed}: {row['outcome']}", flush=True)

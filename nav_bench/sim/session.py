@@ -40,6 +40,10 @@ CONTACT_RECOVERY_HZ = 20.0
 # step cheaper but the robot creeps at rest and misses its acceleration limit at 30 or fewer
 # (tests/sim/test_sim_robot.py; benchmarks/bench_physics.py measures 20 and 10).
 SOLVER_ITERATIONS = 50
+# Bullet's solver stops iterating once every constraint's velocity error is below this (m/s or
+# rad/s); None keeps Bullet's own threshold (1e-7). For fidelity studies: benchmarks/bench_physics.py
+# measures what a looser one costs in tracking, odometry, stopping and contacts.
+SOLVER_RESIDUAL: float | None = None
 
 # Collision filter groups (bit masks). Two bodies collide when each one's group is in the
 # other's mask. PyBullet puts mass-0 bodies (ground, walls, movers) in STATIC, whose mask
@@ -101,6 +105,8 @@ class SimSession:
         contact_recovery_hz: rate (1/s) at which contact penetration is removed; Bullet's
             contact ERP is this over ``physics_hz`` (at most 1). ``None`` keeps Bullet's own
             ERP (for fidelity studies).
+        solver_residual: velocity error (m/s, rad/s) under which Bullet's solver stops
+            iterating early; ``None`` keeps Bullet's own (for fidelity studies).
 
     Attributes:
         client: the BulletClient every other part of ``nav_bench.sim`` receives.
@@ -110,7 +116,8 @@ class SimSession:
 
     def __init__(self, gui: bool = False, physics_hz: float = PHYSICS_HZ,
                  solver_iterations: int = SOLVER_ITERATIONS,
-                 contact_recovery_hz: float | None = CONTACT_RECOVERY_HZ) -> None:
+                 contact_recovery_hz: float | None = CONTACT_RECOVERY_HZ,
+                 solver_residual: float | None = SOLVER_RESIDUAL) -> None:
         if physics_hz <= 0:
             raise SimulationError(f"physics_hz must be positive, got {physics_hz}")
         if solver_iterations < 1:
@@ -121,6 +128,9 @@ class SimSession:
         if contact_recovery_hz is not None and not contact_recovery_hz > 0.0:
             raise SimulationError(f"contact_recovery_hz must be positive, got {contact_recovery_hz}")
         self.contact_recovery_hz = contact_recovery_hz
+        if solver_residual is not None and not solver_residual > 0.0:
+            raise SimulationError(f"solver_residual must be positive, got {solver_residual}")
+        self.solver_residual = solver_residual
         self._client: BulletClient | None = None
         self._pristine = False  # True between open() and the first Simulation built on it
         self.ground_id = -1
@@ -209,6 +219,8 @@ class SimSession:
                                     numSolverIterations=self.solver_iterations)
         if self.contact_recovery_hz is not None:
             c.setPhysicsEngineParameter(contactERP=min(1.0, self.contact_recovery_hz * self.dt))
+        if self.solver_residual is not None:
+            c.setPhysicsEngineParameter(solverResidualThreshold=self.solver_residual)
         plane = c.createCollisionShape(pybullet.GEOM_PLANE)
         self.ground_id = c.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=plane)
         c.changeDynamics(self.ground_id, -1, lateralFriction=1.0, restitution=0.0)

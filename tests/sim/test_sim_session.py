@@ -49,6 +49,26 @@ def test_session_applies_solver_iterations_and_refuses_bad_engine_settings():
         SimSession(contact_recovery_hz=0.0)
 
 
+def _drive_3s(session: SimSession, robot) -> np.ndarray:
+    sim = make_sim(session, make_world(), robot)
+    sim.apply(Command(0.5, 0.4))
+    sim.step(round(3.0 / sim.dt))
+    return sim.true_pose()
+
+
+def test_solver_residual_is_applied_and_bullets_own_is_the_default(exact_robot):
+    # a loose stopping threshold changes the drive (it is set), the default does not
+    with SimSession() as s:
+        own = _drive_3s(s, exact_robot)
+        again = _drive_3s(s, exact_robot)
+    with SimSession(solver_residual=1e-2) as s:
+        loose = _drive_3s(s, exact_robot)
+    assert np.array_equal(own, again)
+    assert np.hypot(*(loose[:2] - own[:2])) > 1e-4
+    with pytest.raises(SimulationError, match="solver_residual"):
+        SimSession(solver_residual=0.0)
+
+
 def test_simulation_physics_rate_overrides_the_session(exact_robot):
     with SimSession(physics_hz=240.0) as s:
         sim = make_sim(s, make_world(), exact_robot)
