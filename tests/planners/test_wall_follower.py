@@ -1,7 +1,8 @@
 """WallFollower on the kinematic harness: it holds a wall at its distance, rounds a wall's
 end, and never follows the opposite wall of a 1 m corridor (issue 12: Bug2 and TangentBug
 lost the wall in mazes, offices and clutter), and, on a harness with the simulated diffbot's
-turning inertia, that its turn on the spot stops on a way out of a junction of narrow gaps.
+turning inertia, that its turn on the spot does not yet stop on a way out of a junction of
+narrow gaps (a strict xfail).
 
 Runtime: ~2 s.
 """
@@ -236,25 +237,23 @@ def posts_world(posts: tuple[tuple[float, float, float], ...], size: tuple[float
 CLUTTER_0_POSTS = ((3.13, 4.878, 0.388), (2.047, 4.594, 0.213), (2.83, 3.625, 0.388))
 
 
-def test_the_turn_on_the_spot_is_capped_at_the_max_turn_rate() -> None:
-    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
-    assert follower.turn_rate(DIFFBOT_LIKE) == pytest.approx(2.0)  # 0.6 omega_max would be 3.46
-    assert follower.turn_rate(default_robot()) == pytest.approx(0.6 * 2.0)  # slower robots keep 0.6 omega_max
-
-
+@pytest.mark.xfail(strict=True, reason="issue 12, class A of results/baselines/bugs_s8/classification.md: "
+                   "the turn on the spot carries past the way out (not fixed: the gate of a capped "
+                   "turn rate lost one Bug2 episode)")
 def test_a_follower_at_a_junction_of_narrow_gaps_stops_its_turn_on_a_way_out() -> None:
     """Issue 12: in the simulator TangentBug's follower turned full circles on the spot between
-    three posts (clutter_0) until the episode ended ``oscillating``. Turning at 3.5 rad/s, the
-    robot kept turning for 3-4 cycles (25-40 deg) after the way ahead came clear, past the
-    narrow band of headings that lead out through a 0.5-0.65 m gap, met a post ahead again and
-    turned on. On this harness with the diffbot's inertia, main's turn rate turns 2833 deg in
-    30 s here and never gets 0.5 m from the start (from 36 start poses at the junction, 5 end
-    turning on the spot); capped at 2.0 rad/s the robot is out within 3 s (0 of 36)."""
+    three posts (clutter_0) until the episode ended ``oscillating``. Turning at 0.6 omega_max
+    (3.46 rad/s), the robot kept turning for 3-4 cycles (25-50 deg) after the way ahead came
+    clear, past the narrow band of headings that lead out through a 0.5-0.65 m gap, met a post
+    ahead again and turned on. On this harness with the diffbot's inertia the follower turns
+    2833 deg in 30 s from the ending's pose and never gets 0.5 m away (from 36 start poses at
+    the junction, 5 end turning on the spot). With the turn capped at 2.0 rad/s (tried on
+    branch s8follow, not shipped) the robot was out within 3 s, and 0 of the 36 ended so."""
     start = (2.518, 4.373, 0.222)  # where the simulated episode ended, heading 13 deg
     world = posts_world(CLUTTER_0_POSTS, (5.0, 7.0))
     poses = drive_with_inertia(WallFollower(LEFT, distance=0.4, speed=0.4, front=0.45), world, start, 30.0)
+    assert min(world.clearance(p[:2]) for p in poses) > 0.18  # the diffbot's radius: no contact
     away = np.hypot(poses[:, 0] - start[0], poses[:, 1] - start[1]) > 0.5
     assert away[:50].any()  # out of the junction within 5 s
     turned = np.abs(np.diff(np.unwrap(poses[:, 2]))).sum()
-    assert math.degrees(turned) < 1500.0  # main: 2833 deg
-    assert min(world.clearance(p[:2]) for p in poses) > 0.18  # the diffbot's radius: no contact
+    assert math.degrees(turned) < 1500.0  # it turns 2833 deg
