@@ -28,6 +28,15 @@ just behind the goal would otherwise close the goal's sector for good):
 5. **Cost** ``mu1 D(c, goal) + mu2 D(c, heading) + mu3 D(c, previous choice)`` (D: angular
    difference in sectors); the cheapest candidate is the new direction.
 
+**The window's size** (issue 12, ``results/baselines/vfh_s8/``): 1.2 m with ``b`` = 7.11,
+so ``a = 1 + b 1.2^2`` = 11.24 is the near weight the 1.6 m window with ``b = 4`` had. The
+shared grid marks a wall certain along its whole length, so a wall across a sector sums its
+cells within ``r_rs`` of the ray (five at 0.1 m cells) at any range; with the 1.6 m window
+that sum passed ``threshold_high`` 1.48 m away, and in a 1 m maze corridor the way on closed
+before the turn at its end came into view: the only valley pointed back, and the robot
+shuttled between the corridor's ends for the whole episode (6 of 20 generated mazes). Now
+such a wall closes the sector from 1.13 m (tests: the corridor's end wall, the L-turn).
+
 Speed falls with the histogram density in the current heading (``v_max (1 - min(H, h_m)/h_m)``)
 and with the heading error.
 
@@ -406,7 +415,7 @@ class VFHPlus(Planner):
         Param("mu_goal", 5.0, "-", "cost weight of the difference to the goal direction", minimum=0.0),
         Param("mu_heading", 2.0, "-", "cost weight of the difference to the current heading", minimum=0.0),
         Param("mu_previous", 2.0, "-", "cost weight of the difference to the previous choice", minimum=0.0),
-        Param("slow_density", 5000.0, "-", "histogram value in the heading at which the speed reaches zero",
+        Param("slow_density", 3000.0, "-", "histogram value in the heading at which the speed reaches zero",
               minimum=1e-6),
         Param("relax_max", 4.0, "-", "with no valley, threshold_high is doubled up to this factor until one "
               "opens (the robot then creeps at relaxed_speed); 1 turns it off", minimum=1.0),
