@@ -293,21 +293,24 @@ def end_wall_histogram(ahead: float, radius: float, b: float) -> np.ndarray:
     return polar_histogram(cells, cert, xy, N, r_rs=0.25, d_max=radius, b=b)
 
 
-def test_a_corridors_end_wall_closes_the_way_on_only_within_1_1_m() -> None:
-    """The maze shuttle (issue 12, results/baselines/vfh_s8): with a 1.6 m window and b = 4 a
-    wall 1.4 m ahead summed 3735 straight ahead (over threshold_high = 2500), so in a 1 m
-    corridor the way on closed before the turn at its end came into view and the only valley
-    pointed back. The defaults (1.2 m, b = 7.11: a = 1 + b 1.2^2 = 11.24 as before, a near cell
-    weighs about as much) leave it free and close it from 1.1 m: the five cells within r_rs
-    of the ray sum 225 (5 (1 + 7.11 (1.44 - 1.21)) - 7.11 (2 x 0.04 + 2 x 0.01)) = 2804.74."""
+SHORT_WINDOW = {"window_radius": 1.2, "distance_weight": 7.11, "slow_density": 3000.0}  # vfh_s8
+
+
+def test_a_corridors_end_wall_closes_the_way_on_from_1_48_m() -> None:
+    """The maze shuttle (issue 12, results/baselines/vfh_s8): with the 1.6 m window and b = 4 a
+    certain wall 1.4 m ahead sums 3735 straight ahead (over threshold_high = 2500), so in a 1 m
+    corridor the way on closes before the turn at its end comes into view. The 1.2 m window
+    with b = 7.11 (a = 1 + b 1.2^2 = 11.24, the same near weight) leaves it free and closes it
+    from 1.1 m: the five cells within r_rs of the ray sum
+    225 (5 (1 + 7.11 (1.44 - 1.21)) - 7.11 (2 x 0.04 + 2 x 0.01)) = 2804.74."""
     p = VFHPlus().settings
-    assert (p.window_radius, p.distance_weight) == (1.2, 7.11)
-    assert end_wall_histogram(1.4, 1.6, 4.0)[18] == pytest.approx(3735.0)  # main before
-    assert not end_wall_histogram(1.4, p.window_radius, p.distance_weight).any()
-    at_1_1 = end_wall_histogram(1.1, p.window_radius, p.distance_weight)
+    assert (p.window_radius, p.distance_weight, p.threshold_high) == (1.6, 4.0, 2500.0)
+    assert end_wall_histogram(1.4, 1.6, 4.0)[18] == pytest.approx(3735.0)
+    assert not end_wall_histogram(1.4, 1.2, 7.11).any()
+    at_1_1 = end_wall_histogram(1.1, 1.2, 7.11)
     assert at_1_1[18] == pytest.approx(2804.737, abs=1e-3)
     assert np.flatnonzero(at_1_1 > p.threshold_high).tolist() == [17, 18, 19]
-    assert end_wall_histogram(0.7, p.window_radius, p.distance_weight)[18] == pytest.approx(8563.837, abs=1e-3)
+    assert end_wall_histogram(0.7, 1.2, 7.11)[18] == pytest.approx(8563.837, abs=1e-3)
 
 
 def l_turn_world() -> BoxWorld:
@@ -319,14 +322,17 @@ def l_turn_world() -> BoxWorld:
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
-def test_turns_at_the_end_of_a_1_m_corridor(seed: int) -> None:
-    """The goal beyond an L-turn at the corridor's end (the maze shuttle): with the 1.6 m window
-    the robot turned back 1-1.2 m short of the end wall and shuttled for the whole 120 s (all
-    three seeds); now it takes the turn without contact."""
-    result = run(VFHPlus(), l_turn_world(), (0.5, 0.5, math.pi / 2), (5.5, 3.8), time_s=120.0,
-                 noise_std=0.01, seed=seed)
-    assert result.reached and result.collisions == 0
-    assert result.time < 30.0
+def test_shuttles_before_the_turn_at_the_end_of_a_1_m_corridor(seed: int) -> None:
+    """The goal beyond an L-turn at the corridor's end: with the default 1.6 m window the robot
+    turns back 1-1.2 m short of the end wall and shuttles for the whole 120 s (the maze
+    shuttle, documented); the 1.2 m window takes the turn in under 30 s without contact."""
+    start, goal = (0.5, 0.5, math.pi / 2), (5.5, 3.8)
+    stuck = run(VFHPlus(), l_turn_world(), start, goal, time_s=120.0, noise_std=0.01, seed=seed)
+    assert not stuck.reached and stuck.collisions == 0
+    assert stuck.poses[:, 1].max() < 3.3 and stuck.poses[:, 0].max() < 1.0  # never past the corner
+    turned = run(VFHPlus(**SHORT_WINDOW), l_turn_world(), start, goal, time_s=120.0, noise_std=0.01,
+                 seed=seed)
+    assert turned.reached and turned.collisions == 0 and turned.time < 30.0
 
 
 def test_does_not_stand_still_in_a_1_2_m_corridor() -> None:
