@@ -28,6 +28,17 @@ just behind the goal would otherwise close the goal's sector for good):
 5. **Cost** ``mu1 D(c, goal) + mu2 D(c, heading) + mu3 D(c, previous choice)`` (D: angular
    difference in sectors); the cheapest candidate is the new direction.
 
+**The maze shuttle** (issue 12, ``results/baselines/vfh_s8/``): the shared grid marks a wall
+certain along its whole length, so a wall across a sector sums its cells within ``r_rs`` of
+the ray (five at 0.1 m cells) at any range, and with the 1.6 m window five certain cells pass
+``threshold_high`` 1.48 m away. In a 1 m maze corridor the way on then closes before the turn
+at its end comes into view, and the only valley points back: the robot shuttles between the
+corridor's ends (tests: the corridor's end wall, the L-turn). A 1.2 m window with ``b`` = 7.11
+(the same near weight ``a`` = 11.24; the wall closes a sector from 1.13 m) and
+``slow_density`` 3000 passes the turn. Over the 35 paper episodes and 120 generated layouts it
+reached 65 against 51, but it had 31 contacts against 29 and 20 timeouts against 15, so it is
+not the default. Pass those three values to study it.
+
 Speed falls with the histogram density in the current heading (``v_max (1 - min(H, h_m)/h_m)``)
 and with the heading error.
 

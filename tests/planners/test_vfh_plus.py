@@ -282,6 +282,59 @@ def test_relaxed_thresholds_never_open_a_sector_toward_a_cell_within_reach() -> 
     assert k == pytest.approx(19.0)  # wide valley 11..61: 11 + s_max/2, nearer to sector 1 than 61 - 8
 
 
+def end_wall_histogram(ahead: float, radius: float, b: float) -> np.ndarray:
+    """H^p (72 sectors, r_rs = 0.25 m) of a certain wall across a 4 m wide map, ``ahead`` m in
+    front (+y) of the robot at (2.05, 2.05), read with window ``radius`` m and weight ``b``."""
+    frame = GridFrame.from_bounds((0.0, 0.0, 4.0, 5.0), 0.1)
+    values = np.zeros(frame.shape, dtype=np.uint8)
+    values[20 + round(ahead / 0.1), 10:31] = 100  # cells x 1.05..3.05, c = 15
+    xy = np.array([2.05, 2.05])
+    cells, cert = active_cells(values, frame, xy, radius, 15.0)
+    return polar_histogram(cells, cert, xy, N, r_rs=0.25, d_max=radius, b=b)
+
+
+SHORT_WINDOW = {"window_radius": 1.2, "distance_weight": 7.11, "slow_density": 3000.0}  # vfh_s8
+
+
+def test_a_corridors_end_wall_closes_the_way_on_from_1_48_m() -> None:
+    """The maze shuttle (issue 12, results/baselines/vfh_s8): with the 1.6 m window and b = 4 a
+    certain wall 1.4 m ahead sums 3735 straight ahead (over threshold_high = 2500), so in a 1 m
+    corridor the way on closes before the turn at its end comes into view. The 1.2 m window
+    with b = 7.11 (a = 1 + b 1.2^2 = 11.24, the same near weight) leaves it free and closes it
+    from 1.1 m: the five cells within r_rs of the ray sum
+    225 (5 (1 + 7.11 (1.44 - 1.21)) - 7.11 (2 x 0.04 + 2 x 0.01)) = 2804.74."""
+    p = VFHPlus().settings
+    assert (p.window_radius, p.distance_weight, p.threshold_high) == (1.6, 4.0, 2500.0)
+    assert end_wall_histogram(1.4, 1.6, 4.0)[18] == pytest.approx(3735.0)
+    assert not end_wall_histogram(1.4, 1.2, 7.11).any()
+    at_1_1 = end_wall_histogram(1.1, 1.2, 7.11)
+    assert at_1_1[18] == pytest.approx(2804.737, abs=1e-3)
+    assert np.flatnonzero(at_1_1 > p.threshold_high).tolist() == [17, 18, 19]
+    assert end_wall_histogram(0.7, 1.2, 7.11)[18] == pytest.approx(8563.837, abs=1e-3)
+
+
+def l_turn_world() -> BoxWorld:
+    """A 1 m corridor x 0..1 north to an end wall at y 4.3 that turns east at y 3.3..4.3 (the
+    layout of generated maze_0's first corner)."""
+    return BoxWorld.room((6.0, 4.4), [(1.0, 0.0, 1.1, 3.3),   # the corridor's east wall
+                                      (1.0, 3.2, 5.0, 3.3),   # the east corridor's south wall
+                                      (0.0, 4.3, 6.0, 4.4)])  # the end wall
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_shuttles_before_the_turn_at_the_end_of_a_1_m_corridor(seed: int) -> None:
+    """The goal beyond an L-turn at the corridor's end: with the default 1.6 m window the robot
+    turns back 1-1.2 m short of the end wall and shuttles for the whole 120 s (the maze
+    shuttle, documented); the 1.2 m window takes the turn in under 30 s without contact."""
+    start, goal = (0.5, 0.5, math.pi / 2), (5.5, 3.8)
+    stuck = run(VFHPlus(), l_turn_world(), start, goal, time_s=120.0, noise_std=0.01, seed=seed)
+    assert not stuck.reached and stuck.collisions == 0
+    assert stuck.poses[:, 1].max() < 3.3 and stuck.poses[:, 0].max() < 1.0  # never past the corner
+    turned = run(VFHPlus(**SHORT_WINDOW), l_turn_world(), start, goal, time_s=120.0, noise_std=0.01,
+                 seed=seed)
+    assert turned.reached and turned.collisions == 0 and turned.time < 30.0
+
+
 def test_does_not_stand_still_in_a_1_2_m_corridor() -> None:
     """An 8 m corridor 1.2 m wide: the robot drives through at speed, never blocked."""
     world = BoxWorld.room((12.0, 4.0), [(2.0, 0.0, 10.0, 1.4), (2.0, 2.6, 10.0, 4.0)])
