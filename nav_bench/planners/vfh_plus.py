@@ -36,8 +36,8 @@ at its end comes into view, and the only valley points back: the robot shuttles 
 corridor's ends (tests: the corridor's end wall, the L-turn). A 1.2 m window with ``b`` = 7.11
 (the same near weight ``a`` = 11.24; the wall closes a sector from 1.13 m) and
 ``slow_density`` 3000 passes the turn. Over the 35 paper episodes and 120 generated layouts it
-reached 65 against 51, but it had 31 contacts against 29 and 20 timeouts against 15, so it is
-not the default. Pass those three values to study it.
+reached 65 against 51, but 31 episodes had a contact against 29 and 20 timed out against 15,
+so it is not the default. Pass those three values to study it.
 
 Speed falls with the histogram density in the current heading (``v_max (1 - min(H, h_m)/h_m)``)
 and with the heading error.

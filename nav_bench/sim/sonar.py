@@ -97,7 +97,8 @@ class SonarArray:
         self._cast = client.rayTestBatch
         self._max_range, self._min_range = float(spec.max_range), float(spec.min_range)
         self._direction = np.zeros((len(self._ray_yaw), 3))
-        self._last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        # the last cast's ray starts (N, 3), directions (N, 3) and fractions (N,), for drawing
+        self._last: tuple[np.ndarray, np.ndarray, list[float]] | None = None
 
     def cast(self, position: tuple[float, float, float], rotation: np.ndarray
              ) -> tuple[np.ndarray, np.ndarray]:
