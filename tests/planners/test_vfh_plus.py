@@ -321,18 +321,26 @@ def l_turn_world() -> BoxWorld:
                                       (0.0, 4.3, 6.0, 4.4)])  # the end wall
 
 
+L_TURN_START, L_TURN_GOAL = (0.5, 0.5, math.pi / 2), (5.5, 3.8)
+
+
+@pytest.mark.xfail(strict=True, reason="issue 12, the maze shuttle (results/baselines/vfh_s8): "
+                   "with the default 1.6 m window the robot turns back 1-1.2 m short of the end "
+                   "wall; the 1.2 m window passes here but costs contacts in the mazes")
 @pytest.mark.parametrize("seed", [0, 1, 2])
-def test_shuttles_before_the_turn_at_the_end_of_a_1_m_corridor(seed: int) -> None:
-    """The goal beyond an L-turn at the corridor's end: with the default 1.6 m window the robot
-    turns back 1-1.2 m short of the end wall and shuttles for the whole 120 s (the maze
-    shuttle, documented); the 1.2 m window takes the turn in under 30 s without contact."""
-    start, goal = (0.5, 0.5, math.pi / 2), (5.5, 3.8)
-    stuck = run(VFHPlus(), l_turn_world(), start, goal, time_s=120.0, noise_std=0.01, seed=seed)
-    assert not stuck.reached and stuck.collisions == 0
-    assert stuck.poses[:, 1].max() < 3.3 and stuck.poses[:, 0].max() < 1.0  # never past the corner
-    turned = run(VFHPlus(**SHORT_WINDOW), l_turn_world(), start, goal, time_s=120.0, noise_std=0.01,
-                 seed=seed)
-    assert turned.reached and turned.collisions == 0 and turned.time < 30.0
+def test_defaults_take_the_turn_at_the_end_of_a_1_m_corridor(seed: int) -> None:
+    result = run(VFHPlus(), l_turn_world(), L_TURN_START, L_TURN_GOAL, time_s=120.0,
+                 noise_std=0.01, seed=seed)
+    assert result.reached
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_short_window_takes_the_turn_at_the_end_of_a_1_m_corridor(seed: int) -> None:
+    """The goal beyond an L-turn at the corridor's end: the 1.2 m window takes the turn in
+    under 30 s without contact."""
+    result = run(VFHPlus(**SHORT_WINDOW), l_turn_world(), L_TURN_START, L_TURN_GOAL,
+                 time_s=120.0, noise_std=0.01, seed=seed)
+    assert result.reached and result.collisions == 0 and result.time < 30.0
 
 
 def test_does_not_stand_still_in_a_1_2_m_corridor() -> None:
