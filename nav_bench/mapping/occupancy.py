@@ -316,7 +316,7 @@ class OccupancyGrid(OnGridFrame):
             sy = y + sin_y * ox + cos_y * oy
             a = yaw + angle
             echo = math.isfinite(r) and r < sonar.max_range
-            rk, ck = math.floor((sy - frame.ymin) / cell), math.floor((sx - frame.xmin) / cell)
+            rk, ck = frame.cell_of(sx, sy)
             hr, hc = rk - r0, ck - c0
             rows += (hc, hr, hr * width + hc, cx0 - sx, cy0 - sy, math.cos(a), math.sin(a),
                      r if echo else -math.inf, r - half_t if echo else no_echo_free)

@@ -126,8 +126,9 @@ class SonarArray:
         fraction = [r[2] if r[0] >= 0 else MISS for r in results]
         n, lo, hi = self.rays, self._min_range, self._max_range
         nearest = [min(fraction[i:i + n]) for i in range(0, len(fraction), n)]
-        cone_hit = np.array([f <= 1.0 for f in nearest])
-        ranges = np.array([min(max(f * hi, lo), hi) if f <= 1.0 else hi for f in nearest])
+        hits = [f <= 1.0 for f in nearest]
+        ranges = np.array([min(max(f * hi, lo), hi) if h else hi for f, h in zip(nearest, hits, strict=True)])
+        cone_hit = np.array(hits)
         self._last = (starts, direction.copy(), fraction)
         return ranges, cone_hit
 

@@ -22,19 +22,29 @@ DT = 0.1
 
 
 def drive(follower: WallFollower, world: BoxWorld, start: tuple[float, float, float],
-          seconds: float) -> np.ndarray:
+          seconds: float, robot: RobotInfo | None = None,
+          inertia: tuple[float, float] | None = None) -> np.ndarray:
     """Poses (T+1, 3) of a unicycle driven by ``follower`` for ``seconds`` s (exact odometry,
-    noise-free sonars; the test worlds leave room, so no collision handling)."""
-    robot = default_robot()
+    noise-free sonars; the test worlds leave room, so no collision handling). The body takes
+    each command at once, or with ``inertia`` = (m/s^2, rad/s^2) its speeds follow the command
+    at most that fast (:data:`DIFFBOT_INERTIA`)."""
+    robot = robot or default_robot()
     pose = np.asarray(start, dtype=float)
     poses = [pose.copy()]
     goal = np.array([100.0, 100.0])
+    v = w = 0.0
+    step = DT / 5
     for i in range(round(seconds / DT)):
         cmd = follower.act(observe(world, pose, goal, robot, i * DT, DT, rays=7))
-        v = max(-robot.v_max, min(robot.v_max, cmd.v))
-        w = max(-robot.omega_max, min(robot.omega_max, cmd.omega))
+        v_cmd = max(-robot.v_max, min(robot.v_max, cmd.v))
+        w_cmd = max(-robot.omega_max, min(robot.omega_max, cmd.omega))
+        if inertia is None:
+            v, w = v_cmd, w_cmd
         for _ in range(5):
-            pose = pose + (DT / 5) * np.array([v * math.cos(pose[2]), v * math.sin(pose[2]), w])
+            if inertia is not None:
+                v += max(-inertia[0] * step, min(inertia[0] * step, v_cmd - v))
+                w += max(-inertia[1] * step, min(inertia[1] * step, w_cmd - w))
+            pose = pose + step * np.array([v * math.cos(pose[2]), v * math.sin(pose[2]), w])
         pose[2] = math.remainder(pose[2], 2 * math.pi)
         poses.append(pose.copy())
     return np.array(poses)
@@ -194,30 +204,9 @@ def test_the_end_of_a_narrow_dead_end_pocket_turns_the_robot_back() -> None:
 
 # ----------------------------------------------------------------------------- turning inertia
 DIFFBOT_LIKE = default_robot(radius=0.18, v_max=0.75, omega_max=5.77)  # the simulated diffbot's limits
-
-
-def drive_with_inertia(follower: WallFollower, world: BoxWorld, start: tuple[float, float, float],
-                       seconds: float, robot: RobotInfo = DIFFBOT_LIKE, accel: float = 1.0,
-                       angular_accel: float = 6.0) -> np.ndarray:
-    """Poses (T+1, 3) as :func:`drive`, but the body's speeds follow the command at most
-    ``accel`` m/s^2 and ``angular_accel`` rad/s^2: the simulated diffbot's wheel acceleration
-    limit, which in the stored traces takes 3-4 cycles to stop a 3.5 rad/s turn (decelerating
-    6-7 rad/s^2)."""
-    pose = np.asarray(start, dtype=float)
-    poses = [pose.copy()]
-    v = w = 0.0
-    step = DT / 5
-    for i in range(round(seconds / DT)):
-        cmd = follower.act(observe(world, pose, np.array([100.0, 100.0]), robot, i * DT, DT, rays=7))
-        v_cmd = max(-robot.v_max, min(robot.v_max, cmd.v))
-        w_cmd = max(-robot.omega_max, min(robot.omega_max, cmd.omega))
-        for _ in range(5):
-            v += max(-accel * step, min(accel * step, v_cmd - v))
-            w += max(-angular_accel * step, min(angular_accel * step, w_cmd - w))
-            pose = pose + step * np.array([v * math.cos(pose[2]), v * math.sin(pose[2]), w])
-        pose[2] = math.remainder(pose[2], 2 * math.pi)
-        poses.append(pose.copy())
-    return np.array(poses)
+# m/s^2, rad/s^2: the simulated diffbot's wheel acceleration limit as body speeds; in the stored
+# traces it takes 3-4 cycles to stop a 3.5 rad/s turn (decelerating 6-7 rad/s^2)
+DIFFBOT_INERTIA = (1.0, 6.0)
 
 
 def posts_world(posts: tuple[tuple[float, float, float], ...], size: tuple[float, float],
@@ -251,7 +240,8 @@ def test_a_follower_at_a_junction_of_narrow_gaps_stops_its_turn_on_a_way_out() -
     branch s8follow, not shipped) the robot was out within 3 s, and 0 of the 36 ended so."""
     start = (2.518, 4.373, 0.222)  # where the simulated episode ended, heading 13 deg
     world = posts_world(CLUTTER_0_POSTS, (5.0, 7.0))
-    poses = drive_with_inertia(WallFollower(LEFT, distance=0.4, speed=0.4, front=0.45), world, start, 30.0)
+    poses = drive(WallFollower(LEFT, distance=0.4, speed=0.4, front=0.45), world, start, 30.0,
+                  robot=DIFFBOT_LIKE, inertia=DIFFBOT_INERTIA)
     assert min(world.clearance(p[:2]) for p in poses) > 0.18  # the diffbot's radius: no contact
     away = np.hypot(poses[:, 0] - start[0], poses[:, 1] - start[1]) > 0.5
     assert away[:50].any()  # out of the junction within 5 s
