@@ -9,12 +9,13 @@ simulation skips the checks; the count is the same as checking every step.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 
 import numpy as np
 
 from nav_bench.specs import Mover
-from nav_bench.world.geometry import StaticGeometry, footprint_clearance, mover_radius
+from nav_bench.world.geometry import PointClearance, StaticGeometry, mover_radius
 
 # A manifold point counts as touching when its separation is below this (m). PyBullet keeps
 # contact points up to a few mm apart in its manifolds; those are near misses, not contacts.
@@ -68,8 +69,10 @@ class ContactWindow:
     def __init__(self, geometry: StaticGeometry, movers: list[Mover], robot_radius: float,
                  wheel_speed: float, wheel_base: float) -> None:
         self.geometry = geometry
+        self._static = PointClearance(geometry)  # per-cycle queries: footprint_clearance's arithmetic, cheaper
         self.robot_radius = float(robot_radius)
         self.mover_radii = np.array([mover_radius(m) for m in movers], dtype=float)
+        self._mover_radii = self.mover_radii.tolist()
         # a point at distance d from the axle's midpoint moves at most v + |omega| d, with
         # |v| <= wheel_speed and |omega| <= 2 wheel_speed / wheel_base; d <= the footprint radius
         robot_speed = SPEED_SAFETY * wheel_speed * (1.0 + 2.0 * self.robot_radius / wheel_base)
@@ -78,8 +81,12 @@ class ContactWindow:
     def clearance(self, xy: np.ndarray, mover_xy: np.ndarray) -> float:
         """Gap (m) between the robot's footprint at ``xy`` (2,) and the nearest obstacle;
         ``mover_xy`` (M, 2) are the movers' positions now."""
-        return float(footprint_clearance(self.geometry, xy, self.robot_radius, self.mover_radii,
-                                         np.asarray(mover_xy, dtype=float)[None])[0])
+        x, y = float(xy[0]), float(xy[1])
+        gap = self._static(x, y)
+        for (mx, my), radius in zip(np.asarray(mover_xy, dtype=float).tolist(), self._mover_radii,
+                                    strict=True):  # a few movers: Python floats beat NumPy calls
+            gap = min(gap, math.hypot(mx - x, my - y) - radius)
+        return gap - self.robot_radius
 
     def free_for(self, xy: np.ndarray, mover_xy: np.ndarray) -> float:
         """Seconds during which the robot at ``xy`` surely touches nothing (0: check now)."""

@@ -157,6 +157,42 @@ def clearance(geometry: StaticGeometry, points: np.ndarray, chunk: int = 2048) -
     return out
 
 
+class PointClearance:
+    """Distance (m) from one point to the nearest static obstacle, for queries in a loop.
+
+    The arithmetic of :func:`clearance` on a single point, bit for bit, with each box's
+    sine, cosine and half sizes computed once: a query is a dozen NumPy calls on (N,) arrays
+    instead of broadcasts through (1, N) ones, about a quarter of the cost (the simulation asks
+    it up to once per control cycle, :class:`~nav_bench.sim.contacts.ContactWindow`).
+
+    Args:
+        geometry: the world's static obstacles.
+    """
+
+    def __init__(self, geometry: StaticGeometry) -> None:
+        b = np.asarray(geometry.boxes, dtype=float).reshape(-1, 5)
+        self._box_x, self._box_y = b[:, 0].copy(), b[:, 1].copy()
+        self._cos, self._sin = np.cos(b[:, 4]), np.sin(b[:, 4])
+        self._neg_sin = -self._sin
+        self._half_x, self._half_y = b[:, 2] / 2, b[:, 3] / 2
+        cy = np.asarray(geometry.cylinders, dtype=float).reshape(-1, 3)
+        self._cyl_x, self._cyl_y, self._cyl_r = cy[:, 0].copy(), cy[:, 1].copy(), cy[:, 2].copy()
+
+    def __call__(self, x: float, y: float) -> float:
+        """Signed distance (m) from (x, y) to the nearest obstacle (negative inside; inf if none)."""
+        best = math.inf
+        if len(self._box_x):
+            dx, dy = x - self._box_x, y - self._box_y
+            lx = np.abs(self._cos * dx + self._sin * dy) - self._half_x  # box frame, minus half extents
+            ly = np.abs(self._neg_sin * dx + self._cos * dy) - self._half_y
+            d = np.hypot(np.maximum(lx, 0), np.maximum(ly, 0)) + np.minimum(np.maximum(lx, ly), 0)
+            best = float(d.min())
+        if len(self._cyl_x):
+            d = np.hypot(x - self._cyl_x, y - self._cyl_y) - self._cyl_r
+            best = min(best, float(d.min()))
+        return best
+
+
 def obstacle_containing(geometry: StaticGeometry, xy: tuple[float, float], margin: float = 0.0) -> int | None:
     """Index into ``world.obstacles`` of an obstacle within ``margin`` of ``xy`` (-1: boundary)."""
     db, dc = signed_distances(geometry, np.asarray([xy]))
