@@ -1172,7 +1172,9 @@ class DStarLite(Planner):
         are recomputed only around the cells whose occupancy flipped. When cells only became
         occupied (the usual case), distances can only shrink, to the new cells: each new cell
         lowers its disc of radius ``cap`` to a precomputed patch of distances (the same values
-        a distance transform gives); a freed cell needs the transform around it."""
+        a distance transform gives); a freed cell raises the distances of the cells it was
+        nearest to (:meth:`_lift_freed`). Costs are recomputed for the cells whose distance
+        changed."""
         h, w = self.shape
         n = self.window
         a0, a1 = max(robot_rc[0] - n, 0), min(robot_rc[0] + n + 1, h)
@@ -1193,34 +1195,56 @@ class DStarLite(Planner):
         m = self.pad
         r0, r1 = max(fr.min() - m, 0), min(fr.max() + m + 1, h)
         c0, c1 = max(fc.min() - m, 0), min(fc.max() + m + 1, w)
-        if freed.any():  # the box's distances depend on obstacles up to m cells beyond it
-            R0, R1, C0, C1 = max(r0 - m, 0), min(r1 + m, h), max(c0 - m, 0), min(c1 + m, w)
-            orow, ocol = np.nonzero(self.occupied[R0:R1, C0:C1])
-            if len(orow) * (r1 - r0) * (c1 - c0) <= 20000:  # few: every cell to every obstacle
-                dr = np.arange(r0 - R0, r1 - R0)[:, None, None] - orow[None, None, :]
-                dc = np.arange(c0 - C0, c1 - C0)[None, :, None] - ocol[None, None, :]
-                d2 = (dr * dr + dc * dc).min(axis=2, initial=_FAR)  # as the transform: sqrt(dr^2 + dc^2)
-                dist = np.minimum(np.sqrt(d2.astype(float)), self.cap)
-            else:
-                dist = obstacle_distance(self.occupied[R0:R1, C0:C1], self.cap)[r0 - R0:r1 - R0, c0 - C0:c1 - C0]
-            self.dist[r0:r1, c0:c1] = dist
-        else:
-            dist = self.dist[r0:r1, c0:c1]
-            patch = self._patch()
-            for r, c in zip((fr - r0).tolist(), (fc - c0).tolist(), strict=True):
-                # the patch's centre on (r, c), cut to the box
-                pr0, pc0 = max(m - r, 0), max(m - c, 0)
-                br0, bc0 = max(r - m, 0), max(c - m, 0)
-                br1, bc1 = min(r + m + 1, r1 - r0), min(c + m + 1, c1 - c0)
-                sub = dist[br0:br1, bc0:bc1]
-                np.minimum(sub, patch[pr0:pr0 + br1 - br0, pc0:pc0 + bc1 - bc0], out=sub)
+        dist = self.dist[r0:r1, c0:c1]  # distances can change only within cap (m cells) of a flip
+        before = dist.copy()
+        if freed.any():
+            self._lift_freed(dist, r0, c0, fr[freed], fc[freed])
+        patch = self._patch()
+        for r, c in zip((fr[~freed] - r0).tolist(), (fc[~freed] - c0).tolist(), strict=True):
+            # a new obstacle lowers its disc to the patch's distances (centre on (r, c), cut to the box)
+            pr0, pc0 = max(m - r, 0), max(m - c, 0)
+            br0, bc0 = max(r - m, 0), max(c - m, 0)
+            br1, bc1 = min(r + m + 1, r1 - r0), min(c + m + 1, c1 - c0)
+            sub = dist[br0:br1, bc0:bc1]
+            np.minimum(sub, patch[pr0:pr0 + br1 - br0, pc0:pc0 + bc1 - bc0], out=sub)
+        # a cell's cost is a function of its distance alone: only cells whose distance changed
+        # can change cost (in row-major order, as a comparison of the whole box lists them)
+        dr, dc = np.nonzero(dist != before)
         p = self.settings
-        new = clearance_costs(dist, self.inscribed, self.margin_cells, p.inflated_cost, p.clearance_cost)
+        vals = clearance_costs(dist[dr, dc], self.inscribed, self.margin_cells, p.inflated_cost,
+                               p.clearance_cost)
         old = self.cost[r0:r1, c0:c1]
-        dr, dc = np.nonzero(new != old)
-        vals = new[dr, dc]
+        moved = vals != old[dr, dc]
+        dr, dc, vals = dr[moved], dc[moved], vals[moved]
         old[dr, dc] = vals
         return dr + r0, dc + c0, vals
+
+    def _lift_freed(self, dist: np.ndarray, r0: int, c0: int, fr: np.ndarray, fc: np.ndarray) -> None:
+        """Raise, in ``dist`` (the box of :attr:`dist` from row ``r0``, column ``c0``), the
+        distances of the cells whose nearest obstacle may have been one of the freed cells
+        ``fr``, ``fc`` (grid rows and columns, already free in :attr:`occupied`): the cells as
+        near to a freed cell as to their nearest obstacle. Each is measured again to every
+        occupied cell within ``cap`` (cell centres, ``sqrt(dr^2 + dc^2)`` as the distance
+        transform gives it); the others keep theirs, which no freed cell set."""
+        h, w = self.shape
+        m = self.pad
+        rows = np.arange(r0, r0 + dist.shape[0])
+        cols = np.arange(c0, c0 + dist.shape[1])
+        d2 = np.full(dist.shape, _FAR)
+        for r, c in zip(fr.tolist(), fc.tolist(), strict=True):
+            np.minimum(d2, (rows[:, None] - r) ** 2 + (cols[None, :] - c) ** 2, out=d2)
+        # a freed cell nearer than the recorded distance cannot be: the two are equal where the
+        # cell was nearest (sqrt is correctly rounded, so equal squares give equal distances)
+        ar, ac = np.nonzero((np.sqrt(d2.astype(float)) <= dist) & (dist < self.cap))
+        if len(ar) == 0:
+            return
+        R0, C0 = max(r0 - m, 0), max(c0 - m, 0)
+        R1, C1 = min(r0 + dist.shape[0] + m, h), min(c0 + dist.shape[1] + m, w)
+        orow, ocol = np.nonzero(self.occupied[R0:R1, C0:C1])
+        drow = (ar + (r0 - R0))[:, None] - orow[None, :]
+        dcol = (ac + (c0 - C0))[:, None] - ocol[None, :]
+        near2 = (drow * drow + dcol * dcol).min(axis=1, initial=_FAR)
+        dist[ar, ac] = np.minimum(np.sqrt(near2.astype(float)), self.cap)
 
     def _patch(self) -> np.ndarray:
         """(2 pad + 1, 2 pad + 1) distances from the centre cell, capped at ``cap`` (cached)."""

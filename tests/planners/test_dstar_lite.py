@@ -454,11 +454,15 @@ def test_map_changes_patch_distances_equal_a_distance_transform() -> None:
     rng = np.random.default_rng(5)
     robot_rc = (30, 30)
     before = planner.cost.copy()
-    for step in range(12):
-        cells = rng.integers(0, 60, (int(rng.integers(1, 6)), 2))
+    for step in range(60):
+        cells = rng.integers(0, 60, (int(rng.integers(1, 8)), 2))
         frame.values_now = frame.values_now.copy()
-        frame.values_now[cells[:, 0], cells[:, 1]] = 0 if step % 4 == 3 else 100  # freed, or new
+        # freed, new, or both in one cycle (a freed cell's neighbours get their distances back)
+        values = (0 if step % 4 == 3 else 100) if step < 12 else rng.choice([0, 100], len(cells))
+        frame.values_now[cells[:, 0], cells[:, 1]] = values
         rows, cols, vals = planner._map_changes(robot_rc)
+        flat = rows * planner.shape[1] + cols
+        assert np.all(np.diff(flat) > 0)  # row-major, as D* Lite's queue receives them
         expected = obstacle_distance(planner.occupied, planner.cap)
         np.testing.assert_array_equal(planner.dist, expected)  # exactly, patch or transform
         cost = clearance_costs(expected, planner.inscribed, planner.margin_cells, 1000.0, 5.0)
