@@ -30,9 +30,11 @@ class GoalReached:
 
     def __init__(self, goal: np.ndarray, tolerance: float) -> None:
         self.goal, self.tolerance = goal, tolerance
+        self._gx, self._gy = float(goal[0]), float(goal[1])
 
     def __call__(self, t: float, xy: np.ndarray) -> bool:
-        return bool(np.hypot(*(xy - self.goal)) < self.tolerance)
+        # scalars: np.hypot of the same differences, without a (2,) array per cycle
+        return bool(np.hypot(float(xy[0]) - self._gx, float(xy[1]) - self._gy) < self.tolerance)
 
 
 class TimeLimit:
@@ -65,7 +67,8 @@ class Stuck:
     def __init__(self, seconds: float, radius: float, start_xy: np.ndarray,
                  area_radius: float | None = None) -> None:
         self.seconds, self.radius, self.area_radius = seconds, radius, area_radius
-        self.anchor, self.since = np.array(start_xy, dtype=float), 0.0
+        self.anchor: tuple[float, float] = (float(start_xy[0]), float(start_xy[1]))  # m
+        self.since = 0.0
         self.fired: str | None = None
         self._area = SlidingBox(AREA_WINDOW * seconds) if area_radius is not None else None
 
@@ -75,8 +78,9 @@ class Stuck:
             if half_diagonal is not None and half_diagonal <= self.area_radius:
                 self.fired = "area"
                 return True
-        if np.hypot(*(xy - self.anchor)) > self.radius:
-            self.anchor, self.since = xy.copy(), t
+        x, y = float(xy[0]), float(xy[1])
+        if np.hypot(x - self.anchor[0], y - self.anchor[1]) > self.radius:
+            self.anchor, self.since = (x, y), t
             return False
         if t - self.since >= self.seconds:
             self.fired = "radius"

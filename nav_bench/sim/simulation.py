@@ -113,6 +113,10 @@ class Simulation:
         self._contact_points = client.getContactPoints
         self._matrix_of = client.getMatrixFromQuaternion
         self._debug_items: dict[str, list[int]] = {}
+        # what was read at a physics step (self._steps), for the several readers of a cycle
+        self._pose_step = self._movers_step = -1
+        self._pose: tuple[float, ...] = ()
+        self._movers_xy = np.zeros((0, 2))
 
     # -- time ----------------------------------------------------------------------------------
     @property
@@ -160,7 +164,7 @@ class Simulation:
         if window is None:
             return -math.inf
         if self._contact_free_until < t_end and not self._contacts.touching:
-            xy = self.robot.true_pose()[:2]
+            xy = self.true_pose()[:2]
             self._contact_free_until = self.t + window.free_for(xy, self.mover_positions())
         return self._contact_free_until
 
@@ -190,8 +194,11 @@ class Simulation:
         return out
 
     def true_pose(self) -> np.ndarray:
-        """(3,) true pose x, y, yaw (m, m, rad)."""
-        return self.robot.true_pose()
+        """(3,) true pose x, y, yaw (m, m, rad), a new array each call."""
+        if self._pose_step != self._steps:  # read from Bullet once per physics step
+            self._pose = tuple(self.robot.true_pose().tolist())
+            self._pose_step = self._steps
+        return np.array(self._pose)
 
     def odometry_pose(self) -> np.ndarray:
         """(3,) wheel-odometry pose estimate x, y, yaw (m, m, rad); what the planner gets."""
@@ -208,8 +215,13 @@ class Simulation:
         return bool(self._contacts.touching)
 
     def mover_positions(self) -> np.ndarray:
-        """(M, 2) mover positions now, m."""
-        return self.movers.positions(self.t)
+        """(M, 2) mover positions now, m (read-only: the trace and the contact window share
+        one array per physics step)."""
+        if self._movers_step != self._steps:
+            self._movers_xy = self.movers.positions(self.t)
+            self._movers_xy.flags.writeable = False
+            self._movers_step = self._steps
+        return self._movers_xy
 
     # -- GUI helpers (no-ops headless) ---------------------------------------------------------
     def draw_lines(self, segments: np.ndarray, color: tuple[float, float, float] = (1.0, 0.0, 0.0),
