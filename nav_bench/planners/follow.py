@@ -9,6 +9,7 @@ Units: metres, seconds, radians.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -26,17 +27,41 @@ def corridor_half_width(robot: RobotInfo) -> float:
 
 
 # ----------------------------------------------------------------------------- sonar geometry
+def once_per_observation(obs: Observation, key: str,
+                         compute: Callable[[Observation], np.ndarray]) -> np.ndarray:
+    """``compute(obs)``, worked out on the first call and kept on ``obs`` under ``key``, read-only.
+
+    Why: a bug planner, its wall followers and their helpers read the same echoes of one
+    observation several times a cycle (issue 16: TangentBug asked for 7 echo masks a cycle);
+    an observation's readings are fixed once sensed (as :meth:`Observation.sonar_hits`)."""
+    value = obs.__dict__.get(key)
+    if value is None:
+        value = compute(obs)
+        value.flags.writeable = False
+        obs.__dict__[key] = value  # a frozen dataclass refuses setattr, not its dict
+    return value
+
+
 def echo_mask(obs: Observation) -> np.ndarray:
-    """(K,) bool: readings that are an echo (finite and below ``max_range``)."""
+    """(K,) bool: readings that are an echo (finite and below ``max_range``); read-only."""
+    return once_per_observation(obs, "_echo_mask", _echo_mask)
+
+
+def _echo_mask(obs: Observation) -> np.ndarray:
     r = np.asarray(obs.ranges, dtype=float)
     return np.isfinite(r) & (r < obs.robot.sonar.max_range)
 
 
 def robot_frame_hits(obs: Observation) -> np.ndarray:
-    """(K, 2) sonar return points in the robot frame (mount offset + range along the axis), m.
+    """(K, 2) sonar return points in the robot frame (mount offset + range along the axis), m;
+    read-only.
 
     Readings without an echo give the point at ``max_range``; combine with :func:`echo_mask`.
     """
+    return once_per_observation(obs, "_robot_frame_hits", _robot_frame_hits)
+
+
+def _robot_frame_hits(obs: Observation) -> np.ndarray:
     s = obs.robot.sonar
     r = np.where(np.isfinite(obs.ranges), obs.ranges, s.max_range)
     return s.offsets + r[:, None] * np.stack([np.cos(s.angles), np.sin(s.angles)], axis=1)
