@@ -105,14 +105,25 @@ class Observation:
     dt: float
 
     def sonar_hits(self) -> np.ndarray:
-        """(K, 2) world-frame points of the readings (max-range readings included), m."""
-        x, y, yaw = self.pose
-        s = self.robot.sonar
-        c, si = math.cos(yaw), math.sin(yaw)
-        ox = x + c * s.offsets[:, 0] - si * s.offsets[:, 1]
-        oy = y + si * s.offsets[:, 0] + c * s.offsets[:, 1]
-        ang = yaw + s.angles
-        return np.stack([ox + self.ranges * np.cos(ang), oy + self.ranges * np.sin(ang)], axis=1)
+        """(K, 2) world-frame points of the readings (max-range readings included), m; read-only.
+
+        Computed on the first call and kept on the observation (its fields are its readings,
+        fixed once sensed): a bug planner and its wall followers ask for them several times
+        a cycle (issue 16)."""
+        hits = self.__dict__.get("_sonar_hits")
+        if hits is None:
+            x, y, yaw = self.pose
+            s = self.robot.sonar
+            c, si = math.cos(yaw), math.sin(yaw)
+            ox = x + c * s.offsets[:, 0] - si * s.offsets[:, 1]
+            oy = y + si * s.offsets[:, 0] + c * s.offsets[:, 1]
+            ang = yaw + s.angles
+            hits = np.empty((len(ang), 2))  # the columns as np.stack would lay them out
+            hits[:, 0] = ox + self.ranges * np.cos(ang)
+            hits[:, 1] = oy + self.ranges * np.sin(ang)
+            hits.flags.writeable = False
+            self.__dict__["_sonar_hits"] = hits  # frozen: __setattr__ refuses, the dict does not
+        return hits
 
 
 @dataclass(frozen=True)

@@ -9,11 +9,12 @@ Units: metres, seconds, radians.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
 from nav_bench.errors import InputError
-from nav_bench.interface import Command, Observation, RobotInfo, wrap_angle
+from nav_bench.interface import Command, Observation, RobotInfo, SonarInfo, wrap_angle
 
 LEFT, RIGHT = 1, -1  # side signs: +1 = the robot's left (+y), -1 = its right
 # modes of the bug family (Bug2, TangentBug): drive to the goal, follow a boundary, give up
@@ -26,20 +27,46 @@ def corridor_half_width(robot: RobotInfo) -> float:
 
 
 # ----------------------------------------------------------------------------- sonar geometry
+def once_per_observation(obs: Observation, key: str,
+                         compute: Callable[[Observation], np.ndarray]) -> np.ndarray:
+    """``compute(obs)``, worked out on the first call and kept on ``obs`` under ``key``, read-only.
+
+    Why: a bug planner, its wall followers and their helpers read the same echoes of one
+    observation several times a cycle (issue 16: TangentBug asked for 7 echo masks a cycle);
+    an observation's readings are fixed once sensed (as :meth:`Observation.sonar_hits`)."""
+    value = obs.__dict__.get(key)
+    if value is None:
+        value = compute(obs)
+        value.flags.writeable = False
+        obs.__dict__[key] = value  # a frozen dataclass refuses setattr, not its dict
+    return value
+
+
 def echo_mask(obs: Observation) -> np.ndarray:
-    """(K,) bool: readings that are an echo (finite and below ``max_range``)."""
+    """(K,) bool: readings that are an echo (finite and below ``max_range``); read-only."""
+    return once_per_observation(obs, "_echo_mask", _echo_mask)
+
+
+def _echo_mask(obs: Observation) -> np.ndarray:
     r = np.asarray(obs.ranges, dtype=float)
     return np.isfinite(r) & (r < obs.robot.sonar.max_range)
 
 
 def robot_frame_hits(obs: Observation) -> np.ndarray:
-    """(K, 2) sonar return points in the robot frame (mount offset + range along the axis), m.
+    """(K, 2) sonar return points in the robot frame (mount offset + range along the axis), m;
+    read-only.
 
     Readings without an echo give the point at ``max_range``; combine with :func:`echo_mask`.
     """
+    return once_per_observation(obs, "_robot_frame_hits", _robot_frame_hits)
+
+
+def _robot_frame_hits(obs: Observation) -> np.ndarray:
     s = obs.robot.sonar
     r = np.where(np.isfinite(obs.ranges), obs.ranges, s.max_range)
-    return s.offsets + r[:, None] * np.stack([np.cos(s.angles), np.sin(s.angles)], axis=1)
+    axes = np.empty((len(s.angles), 2))  # np.stack([cos, sin], axis=1) without its overhead
+    axes[:, 0], axes[:, 1] = np.cos(s.angles), np.sin(s.angles)
+    return s.offsets + r[:, None] * axes
 
 
 def world_echoes(obs: Observation) -> np.ndarray:
@@ -57,9 +84,13 @@ def obstacle_ahead(obs: Observation, distance: float, half_width: float,
     lies that close to the heading: a diagonal sonar's echo a few cm off a wall beside the
     robot lands inside the corridor ahead, although the way ahead is open.
     """
-    p = robot_frame_hits(obs)[echo_mask(obs) & (np.abs(obs.robot.sonar.angles) <= within)]
-    inside = in_corridor(p, distance, half_width)
-    return float(p[inside, 0].min()) if inside.any() else math.inf
+    # six sonars: Python floats cost less than NumPy calls on (6,) arrays, and compare alike
+    nearest = math.inf
+    for (x, y), echo, angle in zip(robot_frame_hits(obs).tolist(), echo_mask(obs).tolist(),
+                                   obs.robot.sonar.angles.tolist(), strict=True):
+        if echo and abs(angle) <= within and 0.0 < x < distance and abs(y) < half_width:
+            nearest = min(nearest, x)
+    return nearest
 
 
 def in_corridor(points: np.ndarray, distance: float, half_width: float) -> np.ndarray:
@@ -210,12 +241,22 @@ class WallFollower:
         self.k_dist, self.reach = k_dist, reach
         self.memory = EchoMemory(memory_s)
         self._seen_t = -math.inf  # time of the last cycle remembered
+        self._groups_of: SonarInfo | None = None  # the sonar ring of ``_groups``
+
+    def _sonar_groups(self, sonar: SonarInfo) -> tuple[np.ndarray, np.ndarray]:
+        """(K,) bool each: the side sonars whose echoes are remembered, and the sonars on the
+        followed side. Worked out once per sonar ring (fixed for an episode), not every cycle."""
+        if sonar is not self._groups_of:
+            angles = self.side * sonar.angles
+            self._groups = (np.abs(angles - self.side_sonar_axis) <= self.side_sonar_window, angles > 0.0)
+            self._groups_of = sonar
+        return self._groups
 
     def observe(self, obs: Observation) -> None:
         """Remember this cycle's echoes, once per cycle (:meth:`act` calls it; a planner calls it
         in the cycles it does not follow, so the memory has no gap when following starts)."""
         if obs.t > self._seen_t:
-            self.memory.add(obs, np.abs(self.side * obs.robot.sonar.angles - self.side_sonar_axis) <= self.side_sonar_window)
+            self.memory.add(obs, self._sonar_groups(obs.robot.sonar)[0])
             self._seen_t = obs.t
 
     def nearest(self, obs: Observation) -> tuple[float, float] | None:
@@ -225,7 +266,7 @@ class WallFollower:
         sonar does; its axis placement is off by up to half a cone, too much to remember, but
         right enough now); ``None`` if there is none."""
         xy = np.asarray(obs.pose[:2], dtype=float)
-        now = obs.sonar_hits()[echo_mask(obs) & (self.side * obs.robot.sonar.angles > 0.0)]
+        now = obs.sonar_hits()[echo_mask(obs) & self._sonar_groups(obs.robot.sonar)[1]]
         pts = np.concatenate([self.memory.points(xy, self.distance + self.reach), now])
         if len(pts) == 0:
             return None
@@ -245,12 +286,14 @@ class WallFollower:
         echo point lies beside the robot or a little ahead (``-radius < x < front`` in the robot
         frame); ``inf`` if none. With the followed boundary's distance it gives the
         width of the passage the robot is in."""
-        s = obs.robot.sonar
-        p = robot_frame_hits(obs)[echo_mask(obs) & (-self.side * s.angles >= self.beside_sonars)]
-        beside = (p[:, 0] > -obs.robot.radius) & (p[:, 0] < self.front)
-        lateral = -self.side * p[beside, 1]
-        lateral = lateral[lateral > 0.0]
-        return float(lateral.min()) if len(lateral) else math.inf
+        nearest = math.inf
+        for (x, y), echo, angle in zip(robot_frame_hits(obs).tolist(), echo_mask(obs).tolist(),
+                                       obs.robot.sonar.angles.tolist(), strict=True):
+            lateral = -self.side * y
+            if (echo and -self.side * angle >= self.beside_sonars and -obs.robot.radius < x < self.front
+                    and lateral > 0.0):
+                nearest = min(nearest, lateral)
+        return nearest
 
     def _edge_echo_explained(self, obs: Observation, other: float) -> np.ndarray:
         """(K,) bool: sonars on the other side whose reading is within ``edge_slack`` of the
@@ -363,10 +406,13 @@ class EchoMemory:
         if not (self._sorted and now >= cut and (hi == lo or self._buf_t[hi - 1] <= now)):
             self._rebuild(pts, now, cut)
             return
-        lo += int(np.searchsorted(self._buf_t[lo:hi], cut, side="left"))  # times >= cut: a suffix
+        lo += int(self._buf_t[lo:hi].searchsorted(cut, side="left"))  # times >= cut: a suffix
         k = len(pts)
         start = slice(-self.capacity, None).indices(hi - lo + k)[0]  # as [-capacity:] would keep
         lo += start
+        if k == 0:  # no echo this cycle (often, for a side sonar): only old points go
+            self._lo = lo
+            return
         if lo > hi:  # fewer than this cycle's echoes fit
             pts, k, lo = pts[lo - hi:], k - (lo - hi), hi
         if hi + k > len(self._buf_t):  # no room after the memory: move it to a larger buffer's front
@@ -394,7 +440,7 @@ class EchoMemory:
         if center is None or not math.isfinite(radius):
             return xy.copy()
         d = np.hypot(xy[:, 0] - center[0], xy[:, 1] - center[1])
-        return xy[d <= radius]
+        return xy.compress(d <= radius, axis=0)  # xy[d <= radius], at a third of its overhead
 
     def __len__(self) -> int:
         return self._hi - self._lo

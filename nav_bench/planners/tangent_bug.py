@@ -223,6 +223,8 @@ class TangentBug(Planner):
         self._prev_xy = np.asarray(obs.pose[:2], dtype=float).copy()
         self._follow_starts: list[list[float]] = []
         self._polar_echoes: PolarEchoes | None = None  # this cycle's; None: not computed yet
+        sonar = obs.robot.sonar  # the sonars' field of view, half its width (rad)
+        self._half_fov = float(np.max(np.abs(sonar.angles))) + sonar.cone / 2
 
     # -- the local range function ------------------------------------------------------------------
     def _sensing_range(self, obs: Observation) -> float:
@@ -350,14 +352,12 @@ class TangentBug(Planner):
             return STOP
         # d_reach = d_goal - free length when the goal direction is in view, else inf (never
         # below d_followed): the free length is only worked out when it can make the robot leave
-        if self.acquired:
-            half_fov = float(np.max(np.abs(obs.robot.sonar.angles))) + obs.robot.sonar.cone / 2
-            if abs(wrap_angle(theta_g - float(obs.pose[2]))) <= half_fov:
-                d_reach = d_goal - self._free_length(obs, xy, d_goal, theta_g)[1]
-                if d_reach < self.d_followed - p.leave_margin:
-                    self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
-                    self.loop.disarm()
-                    return steer(obs, theta_g, arrival_speed(d_goal, v))
+        if self.acquired and abs(wrap_angle(theta_g - float(obs.pose[2]))) <= self._half_fov:
+            d_reach = d_goal - self._free_length(obs, xy, d_goal, theta_g)[1]
+            if d_reach < self.d_followed - p.leave_margin:
+                self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
+                self.loop.disarm()
+                return steer(obs, theta_g, arrival_speed(d_goal, v))
         if not self.acquired:  # first approach the boundary that blocks the way
             return self._approach(obs, xy, v) or self.follower.act(obs)
         return self.follower.act(obs)
