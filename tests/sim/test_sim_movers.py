@@ -79,3 +79,19 @@ def test_bodies_follow_their_paths_in_the_simulation(session, exact_robot):
             assert z == pytest.approx(world.wall_height / 2)
         assert sim.mover_positions() == pytest.approx(mover_positions(list(world.movers), sim.t))
     assert sim.t == pytest.approx(2400 / 240)
+
+
+def test_readers_of_one_physics_step_share_its_reads_and_cannot_change_them(session, exact_robot):
+    world = make_world(movers=[{"shape": {"cylinder": {"radius": 0.2}}, "path": [[1, 1], [5, 1]],
+                                "speed": 0.5}])
+    sim = make_sim(session, world, exact_robot)
+    pose = sim.true_pose()
+    pose[:] = 99.0  # a reader's copy: the next reader still gets the true pose
+    assert sim.true_pose() == pytest.approx([2.0, 5.0, 0.0], abs=1e-3)
+    first = sim.mover_positions()
+    assert sim.mover_positions() is first  # read once per physics step
+    with pytest.raises(ValueError):
+        first[0, 0] = 0.0
+    sim.step(6)
+    assert sim.mover_positions() == pytest.approx(np.array([[1.0 + 0.5 * sim.t, 1.0]]))
+    assert first == pytest.approx(np.array([[1.0, 1.0]]))
