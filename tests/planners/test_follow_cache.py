@@ -22,17 +22,18 @@ def observation(ranges: list[float]) -> Observation:
 RANGES = [0.5, np.inf, 1.2, 0.3, 9.0, 0.8]  # an infinite and a beyond-max-range reading
 
 
-def test_sonar_hits_equal_the_plain_formula_and_are_kept_read_only() -> None:
+def test_sonar_hits_are_the_echoes_in_the_world_and_are_kept_read_only() -> None:
     obs = observation(RANGES)
-    x, y, yaw = obs.pose
+    yaw = obs.pose[2]
+    turn = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
     s = obs.robot.sonar
-    c, si = math.cos(yaw), math.sin(yaw)
-    ox = x + c * s.offsets[:, 0] - si * s.offsets[:, 1]
-    oy = y + si * s.offsets[:, 0] + c * s.offsets[:, 1]
-    ang = yaw + s.angles
-    plain = np.stack([ox + obs.ranges * np.cos(ang), oy + obs.ranges * np.sin(ang)], axis=1)
+    # each echo: the mount point plus the range along the sonar's axis, turned into the world
+    finite = np.isfinite(obs.ranges)
+    local = s.offsets + obs.ranges[:, None] * np.column_stack([np.cos(s.angles), np.sin(s.angles)])
+    expected = obs.pose[:2] + local[finite] @ turn.T
     hits = obs.sonar_hits()
-    np.testing.assert_array_equal(hits, plain)  # bit for bit (inf included)
+    assert hits[finite] == pytest.approx(expected, abs=1e-12)
+    assert not np.isfinite(hits[~finite]).any()  # the infinite reading stays off the map
     assert obs.sonar_hits() is hits and not hits.flags.writeable
     with pytest.raises(ValueError):
         hits[0, 0] = 0.0
