@@ -9,12 +9,14 @@ all speak these. Units: metres, seconds, radians.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from enum import Enum
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
+
+T = TypeVar("T")
 
 
 class Outcome(str, Enum):
@@ -110,20 +112,36 @@ class Observation:
         Computed on the first call and kept on the observation (its fields are its readings,
         fixed once sensed): a bug planner and its wall followers ask for them several times
         a cycle (issue 16)."""
-        hits = self.__dict__.get("_sonar_hits")
-        if hits is None:
-            x, y, yaw = self.pose
-            s = self.robot.sonar
-            c, si = math.cos(yaw), math.sin(yaw)
-            ox = x + c * s.offsets[:, 0] - si * s.offsets[:, 1]
-            oy = y + si * s.offsets[:, 0] + c * s.offsets[:, 1]
-            ang = yaw + s.angles
-            hits = np.empty((len(ang), 2))  # the columns as np.stack would lay them out
-            hits[:, 0] = ox + self.ranges * np.cos(ang)
-            hits[:, 1] = oy + self.ranges * np.sin(ang)
-            hits.flags.writeable = False
-            self.__dict__["_sonar_hits"] = hits  # frozen: __setattr__ refuses, the dict does not
-        return hits
+        return once_per_observation(self, "_sonar_hits", _sonar_hits)
+
+
+def _sonar_hits(obs: Observation) -> np.ndarray:
+    x, y, yaw = obs.pose
+    s = obs.robot.sonar
+    c, si = math.cos(yaw), math.sin(yaw)
+    ox = x + c * s.offsets[:, 0] - si * s.offsets[:, 1]
+    oy = y + si * s.offsets[:, 0] + c * s.offsets[:, 1]
+    ang = yaw + s.angles
+    hits = np.empty((len(ang), 2))  # the columns as np.stack would lay them out
+    hits[:, 0] = ox + obs.ranges * np.cos(ang)
+    hits[:, 1] = oy + obs.ranges * np.sin(ang)
+    return hits
+
+
+def once_per_observation(obs: Observation, key: str, compute: Callable[[Observation], T]) -> T:
+    """``compute(obs)``, worked out on the first call and kept on ``obs`` under ``key``
+    (arrays made read-only, as every reader shares them).
+
+    Why: a bug planner, its wall followers and their helpers read the same echoes of one
+    observation several times a cycle (issue 16: TangentBug asked for 7 echo masks a cycle);
+    an observation's readings are fixed once sensed."""
+    value = obs.__dict__.get(key)
+    if value is None:
+        value = compute(obs)
+        if isinstance(value, np.ndarray):
+            value.flags.writeable = False
+        obs.__dict__[key] = value  # a frozen dataclass refuses setattr, not its dict
+    return value
 
 
 @dataclass(frozen=True)

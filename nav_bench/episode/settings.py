@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 from nav_bench.episode.ending import DEFAULT_AREA_RADIUS
@@ -63,12 +64,12 @@ class EpisodeSettings:
             return float(self.time_s)
         return max(60.0, 15.0 * (world.size[0] + world.size[1]))
 
-    @property
+    @cached_property  # read every cycle; the settings are frozen
     def steps_per_cycle(self) -> int:
         """Physics steps per control cycle."""
         return max(1, round(self.physics_hz / self.control_hz))
 
-    @property
+    @cached_property
     def cycle_s(self) -> float:
         """Simulated seconds per control cycle (whole physics steps)."""
         return self.steps_per_cycle / self.physics_hz

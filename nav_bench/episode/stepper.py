@@ -89,7 +89,6 @@ class EpisodeStepper:
         self._goal = np.array(world.goal, dtype=float)
         self._goal.flags.writeable = False  # shared by every observation: no planner may change it
         self._bounds = (0.0, 0.0, float(world.size[0]), float(world.size[1]))
-        self._steps_per_cycle, self._cycle_s = settings.steps_per_cycle, settings.cycle_s
         try:
             self.sim = Simulation(session, world, robot, self.rng, physics_hz=settings.physics_hz)
             sim = self.sim
@@ -157,7 +156,7 @@ class EpisodeStepper:
             for observer in self.observers:
                 observer.on_cycle(cycle)
             sim.apply(cmd)  # act
-            sim.step(self._steps_per_cycle)  # step
+            sim.step(self.settings.steps_per_cycle)  # step
         except Exception as exc:
             self.fail(exc)
 
@@ -174,7 +173,7 @@ class EpisodeStepper:
 
     def _observation(self, sim: Simulation) -> Observation:
         return Observation(t=sim.t, pose=sim.odometry_pose(), goal=self._goal, ranges=sim.sense(),
-                           robot=sim.robot_info, bounds=self._bounds, dt=self._cycle_s)
+                           robot=sim.robot_info, bounds=self._bounds, dt=self.settings.cycle_s)
 
     # -- the end ---------------------------------------------------------------------------------
     def finish(self, *, wall_s: float, planner_state: dict[str, Any] | None = None,

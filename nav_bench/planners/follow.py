@@ -9,12 +9,18 @@ Units: metres, seconds, radians.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 
 import numpy as np
 
 from nav_bench.errors import InputError
-from nav_bench.interface import Command, Observation, RobotInfo, SonarInfo, wrap_angle
+from nav_bench.interface import (
+    Command,
+    Observation,
+    RobotInfo,
+    SonarInfo,
+    once_per_observation,
+    wrap_angle,
+)
 
 LEFT, RIGHT = 1, -1  # side signs: +1 = the robot's left (+y), -1 = its right
 # modes of the bug family (Bug2, TangentBug): drive to the goal, follow a boundary, give up
@@ -27,21 +33,6 @@ def corridor_half_width(robot: RobotInfo) -> float:
 
 
 # ----------------------------------------------------------------------------- sonar geometry
-def once_per_observation(obs: Observation, key: str,
-                         compute: Callable[[Observation], np.ndarray]) -> np.ndarray:
-    """``compute(obs)``, worked out on the first call and kept on ``obs`` under ``key``, read-only.
-
-    Why: a bug planner, its wall followers and their helpers read the same echoes of one
-    observation several times a cycle (issue 16: TangentBug asked for 7 echo masks a cycle);
-    an observation's readings are fixed once sensed (as :meth:`Observation.sonar_hits`)."""
-    value = obs.__dict__.get(key)
-    if value is None:
-        value = compute(obs)
-        value.flags.writeable = False
-        obs.__dict__[key] = value  # a frozen dataclass refuses setattr, not its dict
-    return value
-
-
 def echo_mask(obs: Observation) -> np.ndarray:
     """(K,) bool: readings that are an echo (finite and below ``max_range``); read-only."""
     return once_per_observation(obs, "_echo_mask", _echo_mask)
@@ -69,6 +60,19 @@ def _robot_frame_hits(obs: Observation) -> np.ndarray:
     return s.offsets + r[:, None] * axes
 
 
+def robot_frame_echoes(obs: Observation) -> tuple[tuple[float, float, float], ...]:
+    """The echoes as Python floats, once per observation: ``(x, y, sonar angle)`` of each
+    reading with an echo (:func:`robot_frame_hits`, :func:`echo_mask`), in sonar order. Six
+    sonars: loops over these floats cost less than NumPy calls on (6,) arrays, and compare alike."""
+    return once_per_observation(obs, "_robot_frame_echoes", _robot_frame_echoes)
+
+
+def _robot_frame_echoes(obs: Observation) -> tuple[tuple[float, float, float], ...]:
+    return tuple((x, y, angle) for (x, y), echo, angle in zip(
+        robot_frame_hits(obs).tolist(), echo_mask(obs).tolist(), obs.robot.sonar.angles.tolist(),
+        strict=True) if echo)
+
+
 def world_echoes(obs: Observation) -> np.ndarray:
     """(M, 2) world-frame points of the readings that are echoes, m."""
     return obs.sonar_hits()[echo_mask(obs)]
@@ -84,11 +88,9 @@ def obstacle_ahead(obs: Observation, distance: float, half_width: float,
     lies that close to the heading: a diagonal sonar's echo a few cm off a wall beside the
     robot lands inside the corridor ahead, although the way ahead is open.
     """
-    # six sonars: Python floats cost less than NumPy calls on (6,) arrays, and compare alike
     nearest = math.inf
-    for (x, y), echo, angle in zip(robot_frame_hits(obs).tolist(), echo_mask(obs).tolist(),
-                                   obs.robot.sonar.angles.tolist(), strict=True):
-        if echo and abs(angle) <= within and 0.0 < x < distance and abs(y) < half_width:
+    for x, y, angle in robot_frame_echoes(obs):
+        if abs(angle) <= within and 0.0 < x < distance and abs(y) < half_width:
             nearest = min(nearest, x)
     return nearest
 
@@ -287,11 +289,9 @@ class WallFollower:
         frame); ``inf`` if none. With the followed boundary's distance it gives the
         width of the passage the robot is in."""
         nearest = math.inf
-        for (x, y), echo, angle in zip(robot_frame_hits(obs).tolist(), echo_mask(obs).tolist(),
-                                       obs.robot.sonar.angles.tolist(), strict=True):
+        for x, y, angle in robot_frame_echoes(obs):
             lateral = -self.side * y
-            if (echo and -self.side * angle >= self.beside_sonars and -obs.robot.radius < x < self.front
-                    and lateral > 0.0):
+            if -self.side * angle >= self.beside_sonars and -obs.robot.radius < x < self.front and lateral > 0.0:
                 nearest = min(nearest, lateral)
         return nearest
 

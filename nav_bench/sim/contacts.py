@@ -71,8 +71,7 @@ class ContactWindow:
         self.geometry = geometry
         self._static = PointClearance(geometry)  # per-cycle queries: footprint_clearance's arithmetic, cheaper
         self.robot_radius = float(robot_radius)
-        self.mover_radii = np.array([mover_radius(m) for m in movers], dtype=float)
-        self._mover_radii = self.mover_radii.tolist()
+        self.mover_radii = [mover_radius(m) for m in movers]  # m: a few, read as Python floats
         # a point at distance d from the axle's midpoint moves at most v + |omega| d, with
         # |v| <= wheel_speed and |omega| <= 2 wheel_speed / wheel_base; d <= the footprint radius
         robot_speed = SPEED_SAFETY * wheel_speed * (1.0 + 2.0 * self.robot_radius / wheel_base)
@@ -83,7 +82,7 @@ class ContactWindow:
         ``mover_xy`` (M, 2) are the movers' positions now."""
         x, y = float(xy[0]), float(xy[1])
         gap = self._static(x, y)
-        for (mx, my), radius in zip(np.asarray(mover_xy, dtype=float).tolist(), self._mover_radii,
+        for (mx, my), radius in zip(np.asarray(mover_xy, dtype=float).tolist(), self.mover_radii,
                                     strict=True):  # a few movers: Python floats beat NumPy calls
             gap = min(gap, math.hypot(mx - x, my - y) - radius)
         return gap - self.robot_radius

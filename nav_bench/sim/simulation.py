@@ -115,7 +115,7 @@ class Simulation:
         self._debug_items: dict[str, list[int]] = {}
         # what was read at a physics step (self._steps), for the several readers of a cycle
         self._pose_step = self._movers_step = -1
-        self._pose: tuple[float, ...] = ()
+        self._pose = np.zeros(3)
         self._movers_xy = np.zeros((0, 2))
 
     # -- time ----------------------------------------------------------------------------------
@@ -196,9 +196,9 @@ class Simulation:
     def true_pose(self) -> np.ndarray:
         """(3,) true pose x, y, yaw (m, m, rad), a new array each call."""
         if self._pose_step != self._steps:  # read from Bullet once per physics step
-            self._pose = tuple(self.robot.true_pose().tolist())
+            self._pose = self.robot.true_pose()
             self._pose_step = self._steps
-        return np.array(self._pose)
+        return self._pose.copy()
 
     def odometry_pose(self) -> np.ndarray:
         """(3,) wheel-odometry pose estimate x, y, yaw (m, m, rad); what the planner gets."""

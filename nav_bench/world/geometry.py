@@ -113,11 +113,18 @@ def box_signed_distance(points: np.ndarray, boxes: np.ndarray) -> np.ndarray:
     """(K, N) signed distance (m) from (K, 2) points to (N, 5) boxes; negative inside."""
     p = np.asarray(points, dtype=float).reshape(-1, 2)
     b = np.asarray(boxes, dtype=float).reshape(-1, 5)
-    dx = p[:, None, 0] - b[None, :, 0]
-    dy = p[:, None, 1] - b[None, :, 1]
     c, s = np.cos(b[:, 4]), np.sin(b[:, 4])
-    lx = np.abs(c * dx + s * dy) - b[:, 2] / 2  # box frame, minus half extents
-    ly = np.abs(-s * dx + c * dy) - b[:, 3] / 2
+    return _box_distance(p[:, None, 0] - b[None, :, 0], p[:, None, 1] - b[None, :, 1],
+                         c, s, -s, b[:, 2] / 2, b[:, 3] / 2)
+
+
+def _box_distance(dx: np.ndarray, dy: np.ndarray, cos: np.ndarray, sin: np.ndarray,
+                  neg_sin: np.ndarray, half_x: np.ndarray, half_y: np.ndarray) -> np.ndarray:
+    """Signed distance (m) from offsets ``dx``, ``dy`` (point minus box centre, (..., N)) to
+    boxes of yaw cosine ``cos``, sine ``sin`` (and ``-sin``) and half sizes ``half_x``,
+    ``half_y`` (N,); negative inside."""
+    lx = np.abs(cos * dx + sin * dy) - half_x  # box frame, minus half extents
+    ly = np.abs(neg_sin * dx + cos * dy) - half_y
     return np.hypot(np.maximum(lx, 0), np.maximum(ly, 0)) + np.minimum(np.maximum(lx, ly), 0)
 
 
@@ -160,7 +167,7 @@ def clearance(geometry: StaticGeometry, points: np.ndarray, chunk: int = 2048) -
 class PointClearance:
     """Distance (m) from one point to the nearest static obstacle, for queries in a loop.
 
-    The arithmetic of :func:`clearance` on a single point, bit for bit, with each box's
+    The arithmetic of :func:`clearance` on a single point (the same :func:`_box_distance`), bit for bit, with each box's
     sine, cosine and half sizes computed once: a query is a dozen NumPy calls on (N,) arrays
     instead of broadcasts through (1, N) ones, about a quarter of the cost (the simulation asks
     it up to once per control cycle, :class:`~nav_bench.sim.contacts.ContactWindow`).
@@ -182,11 +189,8 @@ class PointClearance:
         """Signed distance (m) from (x, y) to the nearest obstacle (negative inside; inf if none)."""
         best = math.inf
         if len(self._box_x):
-            dx, dy = x - self._box_x, y - self._box_y
-            lx = np.abs(self._cos * dx + self._sin * dy) - self._half_x  # box frame, minus half extents
-            ly = np.abs(self._neg_sin * dx + self._cos * dy) - self._half_y
-            d = np.hypot(np.maximum(lx, 0), np.maximum(ly, 0)) + np.minimum(np.maximum(lx, ly), 0)
-            best = float(d.min())
+            best = float(_box_distance(x - self._box_x, y - self._box_y, self._cos, self._sin,
+                                       self._neg_sin, self._half_x, self._half_y).min())
         if len(self._cyl_x):
             d = np.hypot(x - self._cyl_x, y - self._cyl_y) - self._cyl_r
             best = min(best, float(d.min()))
