@@ -369,9 +369,10 @@ def markdown(results: list[Fidelity], header: str) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="fewer settings and repeats")
-    parser.add_argument("--residual", action="store_true",
-                        help="the shipped setting with looser solver stopping thresholds")
+    which = parser.add_mutually_exclusive_group()  # each picks its own list of settings
+    which.add_argument("--quick", action="store_true", help="fewer settings and repeats")
+    which.add_argument("--residual", action="store_true",
+                       help="the shipped setting with looser solver stopping thresholds")
     parser.add_argument("--repeats", type=int, default=3, help="cost repeats per setting")
     parser.add_argument("--out", default="results/fidelity", help="folder for physics.md/json")
     args = parser.parse_args()
