@@ -31,6 +31,20 @@ def test_point_clearance_is_the_vectorised_clearance_bit_for_bit():
     assert np.array_equal(one_by_one, expected)
 
 
+@pytest.mark.parametrize(("bucket", "reach"), [(0.5, 1.0), (0.3, 0.2), (2.0, 0.05)])
+def test_point_clearance_by_squares_equals_clearance_near_and_far(bucket, reach):
+    """Near obstacles the answer comes from a square's short list, elsewhere from all
+    primitives: both bit for bit the vectorised clearance, inside, near, far and off the map."""
+    geometry = static_geometry(world(MIXED))
+    rng = np.random.default_rng(7)
+    near = rng.uniform(-0.4, 0.4, size=(3000, 2)) + np.repeat(
+        [[5.0, 4.0], [2.5, 6.0], [7.0, 1.0], [7.5, 5.0], [0.0, 3.0], [10.0, 8.0]], 500, axis=0)
+    points = np.concatenate([near, rng.uniform((-2.0, -2.0), (12.0, 10.0), size=(1000, 2))])
+    at = PointClearance(geometry, bucket=bucket, reach=reach)
+    one_by_one = np.array([at(x, y) for x, y in points.tolist()])
+    assert np.array_equal(one_by_one, clearance(geometry, points))
+
+
 def test_point_clearance_of_known_points():
     at = PointClearance(static_geometry(world(MIXED)))
     assert at(2.5, 7.0) == pytest.approx(0.6)  # 1 m above the cylinder's centre, radius 0.4
