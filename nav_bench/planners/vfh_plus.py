@@ -270,12 +270,18 @@ def window_turning_limits(window: ActiveWindow, bearings: np.ndarray, pose: np.n
     x, y, th = float(pose[0]), float(pose[1]), float(pose[2])
     s, c = math.sin(th), math.cos(th)
     strong = (window.certainty > mask_certainty).nonzero()[0]
-    rel = np.remainder(bearings.take(strong) - th + math.pi, 2 * math.pi) - math.pi
     px, py = window.x.take(strong), window.y.take(strong)
     reach2 = (radius_turn + r_rs) ** 2
     # squared distances to the right and left circles' centres
-    block_r = (rel < 0) & ((px - (x + radius_turn * s)) ** 2 + (py - (y - radius_turn * c)) ** 2 < reach2)
-    block_l = (rel > 0) & ((px - (x - radius_turn * s)) ** 2 + (py - (y + radius_turn * c)) ** 2 < reach2)
+    in_r = (px - (x + radius_turn * s)) ** 2 + (py - (y - radius_turn * c)) ** 2 < reach2
+    in_l = (px - (x - radius_turn * s)) ** 2 + (py - (y + radius_turn * c)) ** 2 < reach2
+    # bearings relative to the heading only of the cells within a circle (mostly none)
+    within = (in_r | in_l).nonzero()[0]
+    if len(within) == 0:
+        return phi_r, phi_l
+    rel = np.remainder(bearings.take(strong.take(within)) - th + math.pi, 2 * math.pi) - math.pi
+    block_r = (rel < 0) & in_r.take(within)
+    block_l = (rel > 0) & in_l.take(within)
     if block_r.any():
         phi_r = float(rel[block_r].max())
     if block_l.any():
