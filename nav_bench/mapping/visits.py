@@ -34,7 +34,7 @@ class VisitGrid(OnGridFrame):
 
     def add(self, xy: np.ndarray | tuple[float, float]) -> bool:
         """Count one control cycle at point ``xy`` (m). False (nothing counted) outside the grid."""
-        x, y = (float(v) for v in xy[:2])
+        x, y = float(xy[0]), float(xy[1])
         if not (math.isfinite(x) and math.isfinite(y)):
             return False
         frame = self.frame

@@ -39,7 +39,7 @@ from nav_bench.planners.follow import echo_mask, limit, steer
 def attractive_force(xy: np.ndarray, goal: np.ndarray, k_att: float, attract_radius: float) -> np.ndarray:
     """(2,) attraction toward ``goal``: quadratic potential within ``attract_radius``, conic beyond."""
     d = np.asarray(goal, dtype=float) - xy
-    dist = float(np.hypot(*d))
+    dist = float(np.hypot(d[0], d[1]))
     if dist <= attract_radius:
         return k_att * d
     return k_att * attract_radius * d / dist
@@ -55,7 +55,9 @@ def repulsive_force(xy: np.ndarray, echoes: np.ndarray, robot_radius: float, k_r
     rho = np.maximum(dist - robot_radius, min_clearance)
     inside = rho < rho0
     mag = np.where(inside, k_rep * (1.0 / rho - 1.0 / rho0) / rho ** 2, 0.0)
-    return (mag[:, None] * away / dist[:, None]).sum(axis=0)
+    away *= mag[:, None]
+    away /= dist[:, None]
+    return np.add.reduce(away, axis=0)  # row by row in echo order, as .sum(axis=0)
 
 
 class PotentialField(Planner):
@@ -95,7 +97,7 @@ class PotentialField(Planner):
         p = self.settings
         f_att, f_rep = self.forces(obs)
         self.force = f_att + f_rep
-        mag = float(np.hypot(*self.force))
+        mag = float(np.hypot(self.force[0], self.force[1]))
         if mag < 1e-9:
             return limit(0.0, 0.0, obs.robot)
         v = min(p.v_max, obs.robot.v_max, p.k_v * mag)

@@ -33,6 +33,7 @@ tested on hand-built grids without a simulator.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -179,6 +180,16 @@ def heuristic_cost(points: np.ndarray, goal: np.ndarray) -> np.ndarray:
     return np.hypot(points[:, 0] - goal[0], points[:, 1] - goal[1])
 
 
+@functools.lru_cache(maxsize=8)
+def square_offsets(k: int) -> tuple[np.ndarray, np.ndarray]:
+    """(row, col) offsets, ((2k+1)^2,) each, of the square of cells ``-k..k`` around a cell,
+    row-major (``np.mgrid`` raveled), worked out once per size (read-only)."""
+    dr, dc = np.mgrid[-k:k + 1, -k:k + 1]
+    dr, dc = dr.ravel(), dc.ravel()
+    dr.flags.writeable = dc.flags.writeable = False
+    return dr, dc
+
+
 def region_cells(frame: GridFrame, points: np.ndarray,
                  radius: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The cells of region A (a disc of ``radius`` m) around each point.
@@ -187,11 +198,10 @@ def region_cells(frame: GridFrame, points: np.ndarray,
     ``(rows, cols, member)``, each (n, m): a square window of m cells per point, and which
     of them are in the disc. Rows/cols may lie outside the grid (see ``frame.contains``).
     """
-    k = math.ceil(radius / frame.cell) + 1
-    dr, dc = np.mgrid[-k:k + 1, -k:k + 1]
+    dr, dc = square_offsets(math.ceil(radius / frame.cell) + 1)
     rc = frame.world_to_cell(points)
-    rows = rc[:, 0, None] + dr.ravel()[None, :]
-    cols = rc[:, 1, None] + dc.ravel()[None, :]
+    rows = rc[:, 0, None] + dr[None, :]
+    cols = rc[:, 1, None] + dc[None, :]
     centres = frame.cell_center(rows, cols)
     member = np.hypot(centres[..., 0] - points[:, 0, None],
                       centres[..., 1] - points[:, 1, None]) <= radius + 1e-9
@@ -278,8 +288,8 @@ def blocked_segments(pmo: np.ndarray, frame: GridFrame, start: np.ndarray, point
     rc = frame.world_to_cell(samples)
     rows, cols = rc[..., 0], rc[..., 1]
     inside = frame.contains(rows, cols)
-    start_cell = frame.world_to_cell(start)
-    own = (rows == start_cell[0]) & (cols == start_cell[1])
+    own_row, own_col = frame.cell_of(float(start[0]), float(start[1]))  # world_to_cell in floats
+    own = (rows == own_row) & (cols == own_col)
     occupied = np.zeros(rows.shape, dtype=bool)
     occupied[inside] = pmo[rows[inside], cols[inside]] > occupied_above
     return np.any((occupied | ~inside) & ~own, axis=1)
@@ -302,7 +312,8 @@ def crossed_cells(frame: GridFrame, start: np.ndarray, end: np.ndarray) -> np.nd
             lo, hi = sorted(((a - origin) / frame.cell, (b - origin) / frame.cell))
             lines = np.arange(math.floor(lo) + 1, math.ceil(hi)) * frame.cell + origin
             cuts.append((lines - a) / (b - a))
-    t = np.unique(np.concatenate(cuts))
+    t = np.sort(np.concatenate(cuts))
+    t = t[np.append(True, t[1:] != t[:-1])]  # np.unique's result, without its wrappers
     mid = (t[:-1] + t[1:]) / 2
     cols = np.floor((start[0] + mid * (end[0] - start[0]) - x0) / frame.cell).astype(np.int64)
     rows = np.floor((start[1] + mid * (end[1] - start[1]) - y0) / frame.cell).astype(np.int64)
@@ -339,7 +350,7 @@ def goal_path_blocked(pmo: np.ndarray, frame: GridFrame, start: np.ndarray, goal
     height, width = pmo.shape
     inside = (rows >= 0) & (rows < height) & (cols >= 0) & (cols < width)
     rows, cols = rows[inside], cols[inside]
-    own_row, own_col = frame.world_to_cell(start)
+    own_row, own_col = frame.cell_of(float(start[0]), float(start[1]))  # world_to_cell in floats
     occupied = (pmo[rows, cols] > occupied_above) & ~((rows == own_row) & (cols == own_col))
     return bool(occupied.any())
 
@@ -453,15 +464,15 @@ class Decision:
         """The decision as a :class:`~nav_bench.interface.ReplanEvent` (numbers rounded to 1e-6,
         the cost terms and risks among its details); ``extra`` goes into the details too."""
         def f(a: np.ndarray) -> list[float]:
-            return [round(float(v), 6) for v in a]
+            return [round(v, 6) for v in a.tolist()]  # tolist: Python floats, one conversion
 
         bx, by = f(self.breakpoint)
         return ReplanEvent(
-            t=t, breakpoint=(bx, by), neighbours=tuple((x, y) for x, y in map(f, self.points)),
-            risk=tuple(int(v) for v in self.r), candidate=tuple(bool(v) for v in self.candidate),
+            t=t, breakpoint=(bx, by), neighbours=tuple((round(x, 6), round(y, 6)) for x, y in self.points.tolist()),
+            risk=tuple(self.r.tolist()), candidate=tuple(self.candidate.tolist()),
             chosen=self.chosen, trigger=trigger, theta_from=theta_from,
             details={"heading": round(float(self.heading), 6), "theta": f(self.theta),
-                     "rc": [int(v) for v in self.RC], "ri": [int(v) for v in self.RI],
+                     "rc": self.RC.tolist(), "ri": self.RI.tolist(),
                      "G": f(self.G), "H": f(self.H), "IPO": f(self.IPO), "IPT": f(self.IPT),
                      "F": f(self.F), "tier": self.tier, "forced": self.forced, **extra})
 

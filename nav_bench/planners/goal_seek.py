@@ -56,7 +56,8 @@ class GoalSeek(Planner):
 
     def act(self, obs: Observation) -> Command:
         p = self.settings
-        x, y, yaw = (float(v) for v in obs.pose[:3])
+        pose = obs.pose
+        x, y, yaw = float(pose[0]), float(pose[1]), float(pose[2])
         gx, gy = float(obs.goal[0]), float(obs.goal[1])
         if math.hypot(gx - x, gy - y) < p.goal_tolerance:
             self._mode = "reached"

@@ -173,7 +173,7 @@ def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: fl
         return ActiveWindow.of_cells(np.zeros((0, 2)), np.zeros(0), xy)
     square = values[rs:re, cs:ce]
     above = square > UNKNOWN
-    rr, cc = np.divmod(np.flatnonzero(above), ce - cs)  # row-major, as np.nonzero
+    rr, cc = np.divmod(above.ravel().nonzero()[0], ce - cs)  # row-major, as np.nonzero
     # certainty_from_occupancy of cells above 50: (occ - 50) / 50 > 0 needs no lower clip
     cert = np.minimum((square[above] - 50.0) / 50.0, 1.0)
     cert *= c_max
@@ -182,7 +182,7 @@ def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: fl
     dx, dy = cx - x, cy - y
     dist = np.hypot(dx, dy)
     if dist.max(initial=0.0) > radius:  # the square's corners: keep the disc
-        near = np.flatnonzero(dist <= radius)
+        near = (dist <= radius).nonzero()[0]
         cx, cy, cert, dx, dy, dist = (a.take(near) for a in (cx, cy, cert, dx, dy, dist))
     return ActiveWindow(cx, cy, cert, dx, dy, dist)
 
@@ -226,7 +226,7 @@ def covered_sectors(beta: np.ndarray, gamma: np.ndarray, n_sectors: int) -> tupl
     diff += math.pi  # in [0, 4 pi)
     np.subtract(diff, 2 * math.pi, out=diff, where=diff >= 2 * math.pi)
     diff -= math.pi
-    pairs = np.flatnonzero(np.abs(diff, out=diff) <= gamma[:, None])
+    pairs = (np.abs(diff, out=diff) <= gamma[:, None]).ravel().nonzero()[0]
     return sectors.take(shifted.take(pairs)), pairs // width
 
 
@@ -257,7 +257,8 @@ def polar_histogram(cells_xy: np.ndarray, certainty: np.ndarray, xy: np.ndarray,
 
 def binary_histogram(primary: np.ndarray, previous: np.ndarray, low: float, high: float) -> np.ndarray:
     """(n,) bool H^b: blocked above ``high``, free below ``low``, else as ``previous``."""
-    return np.where(primary > high, True, np.where(primary < low, False, previous))
+    # np.where(primary > high, True, np.where(primary < low, False, previous)) in fewer passes
+    return (primary > high) | (previous & ~(primary < low))
 
 
 def window_turning_limits(window: ActiveWindow, bearings: np.ndarray, pose: np.ndarray,
@@ -266,15 +267,21 @@ def window_turning_limits(window: ActiveWindow, bearings: np.ndarray, pose: np.n
     phi_r, phi_l = -math.pi, math.pi
     if len(window) == 0 or radius_turn <= 0:
         return phi_r, phi_l
-    x, y, th = (float(v) for v in pose[:3])
+    x, y, th = float(pose[0]), float(pose[1]), float(pose[2])
     s, c = math.sin(th), math.cos(th)
-    strong = np.flatnonzero(window.certainty > mask_certainty)
-    rel = np.remainder(bearings.take(strong) - th + math.pi, 2 * math.pi) - math.pi
+    strong = (window.certainty > mask_certainty).nonzero()[0]
     px, py = window.x.take(strong), window.y.take(strong)
     reach2 = (radius_turn + r_rs) ** 2
     # squared distances to the right and left circles' centres
-    block_r = (rel < 0) & ((px - (x + radius_turn * s)) ** 2 + (py - (y - radius_turn * c)) ** 2 < reach2)
-    block_l = (rel > 0) & ((px - (x - radius_turn * s)) ** 2 + (py - (y + radius_turn * c)) ** 2 < reach2)
+    in_r = (px - (x + radius_turn * s)) ** 2 + (py - (y - radius_turn * c)) ** 2 < reach2
+    in_l = (px - (x - radius_turn * s)) ** 2 + (py - (y + radius_turn * c)) ** 2 < reach2
+    # bearings relative to the heading only of the cells within a circle (mostly none)
+    within = (in_r | in_l).nonzero()[0]
+    if len(within) == 0:
+        return phi_r, phi_l
+    rel = np.remainder(bearings.take(strong.take(within)) - th + math.pi, 2 * math.pi) - math.pi
+    block_r = (rel < 0) & in_r.take(within)
+    block_l = (rel > 0) & in_l.take(within)
     if block_r.any():
         phi_r = float(rel[block_r].max())
     if block_l.any():
@@ -306,7 +313,7 @@ def candidate_directions(masked: np.ndarray, k_target: float, s_max: int) -> lis
     the target if it lies between those two.
     """
     n = len(masked)
-    blocked = np.flatnonzero(masked)
+    blocked = masked.nonzero()[0]
     if len(blocked) == n:
         return []
     if len(blocked) == 0:

@@ -38,6 +38,7 @@ from nav_bench.planners.eopc import (
     region_radius,
     risk_index,
     select_neighbour,
+    square_offsets,
     steer,
     term_scales,
     travel_cost,
@@ -265,6 +266,22 @@ def test_the_replan_event_is_plain_json() -> None:
     data = json.loads(json.dumps(d.replan_event(0.0, "eo_stop", "heading").data()))
     assert len(data["neighbours"]) == 16 and len(data["risk"]) == 16
     assert data["chosen"] == 0 and data["tier"] == 1 and data["candidate"] == [True] * 16
+
+
+def test_the_replan_event_holds_the_decision_rounded_to_1e_6() -> None:
+    d = decide(*grids())
+    data = d.replan_event(0.0, "eo_stop", "heading").data()
+    assert data["neighbours"] == [[round(float(x), 6), round(float(y), 6)] for x, y in d.points]
+    assert data["risk"] == [int(v) for v in d.r] and data["rc"] == [int(v) for v in d.RC]
+    assert data["F"] == [round(float(v), 6) for v in d.F]
+    assert all(type(v) is int for v in data["risk"] + data["ri"])
+
+
+def test_square_offsets_are_the_raveled_mgrid() -> None:
+    dr, dc = square_offsets(2)
+    mr, mc = np.mgrid[-2:3, -2:3]
+    assert dr.tolist() == mr.ravel().tolist() and dc.tolist() == mc.ravel().tolist()
+    assert not dr.flags.writeable
 
 
 # ------------------------------------------------------------------ EO

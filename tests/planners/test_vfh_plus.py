@@ -103,6 +103,37 @@ def test_turning_circle_masks_directions_beyond_a_blocking_cell() -> None:
     assert turning_limits(cells, cert, np.zeros(3), 0.0, 0.3, 3.0) == (-math.pi, math.pi)
 
 
+def _turning_limits_of_every_cell(cells, cert, pose, radius_turn, r_rs, mask_certainty):
+    """The turning limits with every strong cell's relative bearing worked out (the formula
+    before only the cells within a circle were)."""
+    if radius_turn <= 0:
+        return -math.pi, math.pi
+    x, y, th = pose
+    s, c = math.sin(th), math.cos(th)
+    strong = cert > mask_certainty
+    px, py = cells[strong, 0], cells[strong, 1]
+    rel = np.remainder(np.arctan2(py - y, px - x) - th + math.pi, 2 * math.pi) - math.pi
+    reach2 = (radius_turn + r_rs) ** 2
+    block_r = (rel < 0) & ((px - (x + radius_turn * s)) ** 2 + (py - (y - radius_turn * c)) ** 2 < reach2)
+    block_l = (rel > 0) & ((px - (x - radius_turn * s)) ** 2 + (py - (y + radius_turn * c)) ** 2 < reach2)
+    return (float(rel[block_r].max()) if block_r.any() else -math.pi,
+            float(rel[block_l].min()) if block_l.any() else math.pi)
+
+
+def test_turning_limits_equal_the_formula_over_every_cell_bit_for_bit() -> None:
+    rng = np.random.default_rng(7)
+    blocked = 0
+    for _ in range(300):
+        pose = np.array([rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-math.pi, math.pi)])
+        cells = pose[:2] + rng.uniform(-1.6, 1.6, (int(rng.integers(0, 40)), 2))
+        cert = rng.uniform(0.0, 15.0, len(cells))
+        radius_turn = float(rng.choice([0.0, 0.2, 0.4]))
+        got = turning_limits(cells, cert, pose, radius_turn, 0.25, 3.0)
+        assert got == _turning_limits_of_every_cell(cells, cert, pose, radius_turn, 0.25, 3.0)
+        blocked += got != (-math.pi, math.pi)
+    assert blocked > 50  # the draws do block the circles, not only leave them free
+
+
 def test_valley_nearest_the_goal_direction_wins() -> None:
     masked = np.ones(N, dtype=bool)
     masked[10:41] = False   # a wide valley (31 sectors), 50..200 deg
