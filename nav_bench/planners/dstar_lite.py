@@ -804,8 +804,15 @@ class PathRepair:
     def cells(self) -> list[tuple[int, int]]:
         """The path from the robot's cell to the goal ([] if there is none, or while a repair is
         unfinished and the old path is lethal or left behind)."""
+        start, stop = self.span
+        return self._path[start:stop]
+
+    @property
+    def span(self) -> tuple[int, int]:
+        """:attr:`cells` as the slice ``[start:stop]`` of :attr:`full_path` (a follower that
+        keeps the full path's points slices them instead of converting the cells anew)."""
         if not self.stale:
-            return self._path[self._offset:]
+            return self._offset, len(self._path)
         return self._safe_prefix()
 
     def _nearby(self, rc: tuple[int, int], last: int) -> int:
@@ -819,16 +826,18 @@ class PathRepair:
                 return i
         return -1
 
-    def _safe_prefix(self) -> list[tuple[int, int]]:
+    def _safe_prefix(self) -> tuple[int, int]:
+        """The slice of the path ahead of the robot up to its first lethal cell (at most
+        ``keep`` cells; (0, 0): none)."""
         start = self._offset if self._offset >= 0 else self._near
         if not self._path or start < 0:
-            return []
+            return 0, 0
         cost, lethal = self.search.graph.cost, self.lethal
         flat = self._flat[start:start + self.keep]
         for i in range(1, len(flat)):
             if cost[flat[i]] >= lethal:
-                return self._path[start:start + i] if i > 1 else []
-        return self._path[start:start + self.keep]
+                return (start, start + i) if i > 1 else (0, 0)
+        return start, min(start + self.keep, len(self._path))
 
     def cycle(self, start: Sequence[int], rows: np.ndarray | None = None,
               cols: np.ndarray | None = None, vals: np.ndarray | None = None) -> tuple[int, bool]:
@@ -910,8 +919,9 @@ class PathRepair:
             if where.get(v, -1) >= start:
                 return True
         if np.max(vals) == INF:
+            block = self.search.graph.block.tolist()
             for v, val in zip(flat, np.asarray(vals).tolist(), strict=True):
-                if val == INF and any(where.get(v + b, -1) >= start for b in self.search.graph.block.tolist()):
+                if val == INF and any(where.get(v + b, -1) >= start for b in block):
                     return True
         return False
 
@@ -1073,10 +1083,8 @@ class DStarLite(Planner):
         if self.repair.version != self._path_id:
             self._path_id = self.repair.version
             self._xy_full = self._to_world(self.repair.full_path)
-        if self.repair.stale:
-            self.path_xy = self._to_world(self.repair.cells)
-        else:
-            self.path_xy = self._xy_full[self.repair.offset:]
+        start, stop = self.repair.span  # (the points of the cells: cell_center is elementwise)
+        self.path_xy = self._xy_full[start:stop]
 
     def _clearance_cap(self, obs: Observation) -> float:
         """Clearances beyond this (m) change nothing the follower does."""
@@ -1147,7 +1155,8 @@ class DStarLite(Planner):
         centres[:, 0] = frame.xmin + ((cc + b0).astype(float) + 0.5) * frame.cell
         centres[:, 1] = frame.ymin + ((rr + a0).astype(float) + 0.5) * frame.cell
         parts = cell_parts(centres, cell)  # (M, CARVE_SUB ** 2, 2)
-        seen = seen_through_cells(centres, cell, pose, np.asarray(obs.ranges, dtype=float), obs.robot.sonar)
+        seen = seen_through_cells(centres, cell, pose, np.asarray(obs.ranges, dtype=float), obs.robot.sonar,
+                                  parts=parts)
         # only cells with a part seen through or under the body change their records (a part
         # is at most cell / sqrt 2 from its cell's centre)
         under = np.hypot(centres[:, 0] - pose[0], centres[:, 1] - pose[1]) <= obs.robot.radius + cell * 0.75
