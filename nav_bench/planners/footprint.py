@@ -195,27 +195,48 @@ def seen_through(points: np.ndarray, part: float, readings: list[tuple[np.ndarra
     free = np.zeros(len(q), dtype=bool)
     if len(q) == 0:
         return free
-    corner = part * math.sqrt(0.5)
-    cos_half = math.cos(sonar.cone / 2)
-    qx, qy = q[:, 0], q[:, 1]
     for pose, ranges in readings:
-        x, y, yaw = (float(v) for v in pose[:3])
+        mounts = _Mounts.of(pose, ranges, sonar)
+        free |= mounts.see_through(q[:, 0], q[:, 1], part, sonar)
+        if body > 0.0:
+            free |= np.hypot(q[:, 0] - mounts.x, q[:, 1] - mounts.y) <= body
+    return free
+
+
+@dataclass(frozen=True)
+class _Mounts:
+    """One reading's sonars in the world: the pose (``x``, ``y`` m, ``yaw`` rad), the ranges
+    capped at ``max_range`` (``r``, (S,) m; no echo: ``max_range``) and the mounts' positions
+    (``mx``, ``my``, (S,) m)."""
+
+    x: float
+    y: float
+    yaw: float
+    r: np.ndarray
+    mx: np.ndarray
+    my: np.ndarray
+
+    @staticmethod
+    def of(pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo) -> _Mounts:
+        x, y, yaw = np.asarray(pose, dtype=float)[:3].tolist()
         cy, sy = math.cos(yaw), math.sin(yaw)
         r = np.where(np.isfinite(ranges), np.minimum(ranges, sonar.max_range), sonar.max_range)
         mx = x + cy * sonar.offsets[:, 0] - sy * sonar.offsets[:, 1]
         my = y + sy * sonar.offsets[:, 0] + cy * sonar.offsets[:, 1]
-        ax, ay = np.cos(yaw + sonar.angles), np.sin(yaw + sonar.angles)
+        return _Mounts(x, y, yaw, r, mx, my)
+
+    def see_through(self, qx: np.ndarray, qy: np.ndarray, part: float, sonar: SonarInfo) -> np.ndarray:
+        """(K,) bool: which small squares (centres ``qx``, ``qy`` (K,), side ``part``, m) one
+        of the cones sees through (:func:`seen_through`, the body aside)."""
+        ax, ay = np.cos(self.yaw + sonar.angles), np.sin(self.yaw + sonar.angles)
         # (S, K): one row per sonar, so that the reduction over sonars ORs whole rows (a
         # reduction over a short last axis is several times slower; the values are the same)
-        dx = qx[None, :] - mx[:, None]
-        dy = qy[None, :] - my[:, None]
+        dx = qx[None, :] - self.mx[:, None]
+        dy = qy[None, :] - self.my[:, None]
         d = np.hypot(dx, dy)
-        inside = dx * ax[:, None] + dy * ay[:, None] >= d * cos_half  # within the cone's half angle
-        inside &= d + corner <= (r - CARVE_MARGIN)[:, None]
-        free |= np.logical_or.reduce(inside, axis=0)
-        if body > 0.0:
-            free |= np.hypot(q[:, 0] - x, q[:, 1] - y) <= body
-    return free
+        inside = dx * ax[:, None] + dy * ay[:, None] >= d * math.cos(sonar.cone / 2)  # within the half angle
+        inside &= d + part * math.sqrt(0.5) <= (self.r - CARVE_MARGIN)[:, None]  # the far corner nearer
+        return np.logical_or.reduce(inside, axis=0)
 
 
 def seen_through_cells(centres: np.ndarray, cell: float, pose: np.ndarray, ranges: np.ndarray,
@@ -237,15 +258,11 @@ def seen_through_cells(centres: np.ndarray, cell: float, pose: np.ndarray, range
         return out
     part = cell / CARVE_SUB
     reach = math.sqrt(2.0) * (cell - part) / 2  # centre to the farthest part centre
-    x, y, yaw = (float(v) for v in pose[:3])
-    cy, sy = math.cos(yaw), math.sin(yaw)
-    r = np.where(np.isfinite(ranges), np.minimum(ranges, sonar.max_range), sonar.max_range)
-    mx = x + cy * sonar.offsets[:, 0] - sy * sonar.offsets[:, 1]
-    my = y + sy * sonar.offsets[:, 0] + cy * sonar.offsets[:, 1]
-    dx, dy = c[None, :, 0] - mx[:, None], c[None, :, 1] - my[:, None]
+    mounts = _Mounts.of(pose, ranges, sonar)
+    dx, dy = c[None, :, 0] - mounts.mx[:, None], c[None, :, 1] - mounts.my[:, None]
     d = np.hypot(dx, dy)  # (S, M): rows per sonar, so that the test over sonars ORs rows
-    near = d - reach + part * math.sqrt(0.5) <= (r - CARVE_MARGIN + 1e-6)[:, None]
-    ang = np.abs(np.arctan2(dy, dx) - (yaw + sonar.angles)[:, None])
+    near = d - reach + part * math.sqrt(0.5) <= (mounts.r - CARVE_MARGIN + 1e-6)[:, None]
+    ang = np.abs(np.arctan2(dy, dx) - (mounts.yaw + sonar.angles)[:, None])
     ang %= 2 * math.pi
     ang = np.minimum(ang, 2 * math.pi - ang)  # off the axis, [0, pi]
     spread = np.arcsin(np.minimum(reach / np.maximum(d, 1e-12), 1.0))
@@ -253,7 +270,7 @@ def seen_through_cells(centres: np.ndarray, cell: float, pose: np.ndarray, range
     maybe = np.flatnonzero(np.logical_or.reduce(near & facing, axis=0))
     if len(maybe):
         pts = (cell_parts(c[maybe], cell) if parts is None else parts[maybe]).reshape(-1, 2)
-        out[maybe] = seen_through(pts, part, [(pose, ranges)], sonar).reshape(len(maybe), -1)
+        out[maybe] = mounts.see_through(pts[:, 0], pts[:, 1], part, sonar).reshape(len(maybe), -1)
     return out
 
 
