@@ -116,12 +116,17 @@ class PointObstacles:
         if len(xy) == 1 and len(self.centres):
             return np.array([self._one(*xy[0].tolist())])
         x0, y0, x1, y1 = self.bounds
-        inside = (xy[:, 0] >= x0) & (xy[:, 0] < x1) & (xy[:, 1] >= y0) & (xy[:, 1] < y1)
+        box = (xy.min(axis=0).tolist(), xy.max(axis=0).tolist()) if len(xy) else None
+        if box is not None and x0 <= box[0][0] and box[1][0] < x1 and y0 <= box[0][1] and box[1][1] < y1:
+            inside = None  # every point (a rollout near the robot, as a rule)
+        else:
+            inside = (xy[:, 0] >= x0) & (xy[:, 0] < x1) & (xy[:, 1] >= y0) & (xy[:, 1] < y1)
         if len(self.centres) == 0:
-            return np.where(inside, self.cap, 0.0)
-        d = self._nearest(xy, self.cap + self.radius)
-        d = np.minimum(np.maximum(d - self.radius, 0.0), self.cap)
-        return np.where(inside, d, 0.0)
+            d = np.full(len(xy), float(self.cap))
+        else:
+            d = self._nearest(xy, self.cap + self.radius, box)
+            d = np.minimum(np.maximum(d - self.radius, 0.0), self.cap)
+        return d if inside is None else np.where(inside, d, 0.0)
 
     def _one(self, x: float, y: float) -> float:
         """:meth:`__call__` of one point (the guard asks for the robot's own clearance every
@@ -138,8 +143,10 @@ class PointObstacles:
             return self.cap
         return min(max(math.sqrt(d2) - self.radius, 0.0), self.cap)
 
-    def _nearest(self, xy: np.ndarray, bound: float) -> np.ndarray:
-        """(N,) distance (m) from each point to the nearest centre, ``inf`` beyond ``bound``."""
+    def _nearest(self, xy: np.ndarray, bound: float,
+                 box: tuple[list[float], list[float]] | None = None) -> np.ndarray:
+        """(N,) distance (m) from each point to the nearest centre, ``inf`` beyond ``bound``.
+        ``box``: the points' ((x, y) min, (x, y) max) when the caller has them."""
         cx, cy = self._cx, self._cy
         if len(xy) * len(cx) > self.BRUTE_PAIRS:
             if self._tree is None:
@@ -148,8 +155,8 @@ class PointObstacles:
         if len(xy) == 0:
             return np.zeros(0)
         reach = bound + 1e-9  # centres farther along x or y than this are beyond the bound
-        near = ((cx >= xy[:, 0].min() - reach) & (cx <= xy[:, 0].max() + reach)
-                & (cy >= xy[:, 1].min() - reach) & (cy <= xy[:, 1].max() + reach))
+        (xmin, ymin), (xmax, ymax) = box or (xy.min(axis=0).tolist(), xy.max(axis=0).tolist())
+        near = (cx >= xmin - reach) & (cx <= xmax + reach) & (cy >= ymin - reach) & (cy <= ymax + reach)
         if not near.any():
             return np.full(len(xy), math.inf)
         dx = xy[:, 0, None] - cx[near][None, :]
