@@ -113,16 +113,40 @@ class PointObstacles:
 
     def __call__(self, xy: np.ndarray) -> np.ndarray:
         xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+        if len(xy) == 1 and len(self.centres):
+            return np.array([self._one(*xy[0].tolist())])
         x0, y0, x1, y1 = self.bounds
-        inside = (xy[:, 0] >= x0) & (xy[:, 0] < x1) & (xy[:, 1] >= y0) & (xy[:, 1] < y1)
+        box = (xy.min(axis=0).tolist(), xy.max(axis=0).tolist()) if len(xy) else None
+        if box is not None and x0 <= box[0][0] and box[1][0] < x1 and y0 <= box[0][1] and box[1][1] < y1:
+            inside = None  # every point (a rollout near the robot, as a rule)
+        else:
+            inside = (xy[:, 0] >= x0) & (xy[:, 0] < x1) & (xy[:, 1] >= y0) & (xy[:, 1] < y1)
         if len(self.centres) == 0:
-            return np.where(inside, self.cap, 0.0)
-        d = self._nearest(xy, self.cap + self.radius)
-        d = np.minimum(np.maximum(d - self.radius, 0.0), self.cap)
-        return np.where(inside, d, 0.0)
+            d = np.full(len(xy), float(self.cap))
+        else:
+            d = self._nearest(xy, self.cap + self.radius, box)
+            d = np.minimum(np.maximum(d - self.radius, 0.0), self.cap)
+        return d if inside is None else np.where(inside, d, 0.0)
 
-    def _nearest(self, xy: np.ndarray, bound: float) -> np.ndarray:
-        """(N,) distance (m) from each point to the nearest centre, ``inf`` beyond ``bound``."""
+    def _one(self, x: float, y: float) -> float:
+        """:meth:`__call__` of one point (the guard asks for the robot's own clearance every
+        cycle): the same squares and sum over every centre in a few array operations (centres
+        outside the filter :meth:`_nearest` applies are beyond the bound either way), the rest
+        in Python floats (the same IEEE operations)."""
+        x0, y0, x1, y1 = self.bounds
+        if not (x0 <= x < x1 and y0 <= y < y1):
+            return 0.0
+        dx, dy = x - self._cx, y - self._cy
+        d2 = float((dx * dx + dy * dy).min())
+        bound = self.cap + self.radius
+        if d2 >= bound * bound:
+            return self.cap
+        return min(max(math.sqrt(d2) - self.radius, 0.0), self.cap)
+
+    def _nearest(self, xy: np.ndarray, bound: float,
+                 box: tuple[list[float], list[float]] | None = None) -> np.ndarray:
+        """(N,) distance (m) from each point to the nearest centre, ``inf`` beyond ``bound``.
+        ``box``: the points' ((x, y) min, (x, y) max) when the caller has them."""
         cx, cy = self._cx, self._cy
         if len(xy) * len(cx) > self.BRUTE_PAIRS:
             if self._tree is None:
@@ -131,8 +155,8 @@ class PointObstacles:
         if len(xy) == 0:
             return np.zeros(0)
         reach = bound + 1e-9  # centres farther along x or y than this are beyond the bound
-        near = ((cx >= xy[:, 0].min() - reach) & (cx <= xy[:, 0].max() + reach)
-                & (cy >= xy[:, 1].min() - reach) & (cy <= xy[:, 1].max() + reach))
+        (xmin, ymin), (xmax, ymax) = box or (xy.min(axis=0).tolist(), xy.max(axis=0).tolist())
+        near = (cx >= xmin - reach) & (cx <= xmax + reach) & (cy >= ymin - reach) & (cy <= ymax + reach)
         if not near.any():
             return np.full(len(xy), math.inf)
         dx = xy[:, 0, None] - cx[near][None, :]
@@ -178,27 +202,52 @@ def seen_through(points: np.ndarray, part: float, readings: list[tuple[np.ndarra
     free = np.zeros(len(q), dtype=bool)
     if len(q) == 0:
         return free
-    corner = part * math.sqrt(0.5)
-    cos_half = math.cos(sonar.cone / 2)
     for pose, ranges in readings:
-        x, y, yaw = (float(v) for v in pose[:3])
+        mounts = _Mounts.of(pose, ranges, sonar)
+        free |= mounts.see_through(q[:, 0], q[:, 1], part, sonar)
+        if body > 0.0:
+            free |= np.hypot(q[:, 0] - mounts.x, q[:, 1] - mounts.y) <= body
+    return free
+
+
+@dataclass(frozen=True)
+class _Mounts:
+    """One reading's sonars in the world: the pose (``x``, ``y`` m, ``yaw`` rad), the ranges
+    capped at ``max_range`` (``r``, (S,) m; no echo: ``max_range``) and the mounts' positions
+    (``mx``, ``my``, (S,) m)."""
+
+    x: float
+    y: float
+    yaw: float
+    r: np.ndarray
+    mx: np.ndarray
+    my: np.ndarray
+
+    @staticmethod
+    def of(pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo) -> _Mounts:
+        x, y, yaw = np.asarray(pose, dtype=float)[:3].tolist()
         cy, sy = math.cos(yaw), math.sin(yaw)
         r = np.where(np.isfinite(ranges), np.minimum(ranges, sonar.max_range), sonar.max_range)
         mx = x + cy * sonar.offsets[:, 0] - sy * sonar.offsets[:, 1]
         my = y + sy * sonar.offsets[:, 0] + cy * sonar.offsets[:, 1]
-        ax, ay = np.cos(yaw + sonar.angles), np.sin(yaw + sonar.angles)
-        dx = q[:, None, 0] - mx[None, :]
-        dy = q[:, None, 1] - my[None, :]
+        return _Mounts(x, y, yaw, r, mx, my)
+
+    def see_through(self, qx: np.ndarray, qy: np.ndarray, part: float, sonar: SonarInfo) -> np.ndarray:
+        """(K,) bool: which small squares (centres ``qx``, ``qy`` (K,), side ``part``, m) one
+        of the cones sees through (:func:`seen_through`, the body aside)."""
+        ax, ay = np.cos(self.yaw + sonar.angles), np.sin(self.yaw + sonar.angles)
+        # (S, K): one row per sonar, so that the reduction over sonars ORs whole rows (a
+        # reduction over a short last axis is several times slower; the values are the same)
+        dx = qx[None, :] - self.mx[:, None]
+        dy = qy[None, :] - self.my[:, None]
         d = np.hypot(dx, dy)
-        inside = dx * ax[None, :] + dy * ay[None, :] >= d * cos_half  # within the cone's half angle
-        free |= np.any(inside & (d + corner <= r[None, :] - CARVE_MARGIN), axis=1)
-        if body > 0.0:
-            free |= np.hypot(q[:, 0] - x, q[:, 1] - y) <= body
-    return free
+        inside = dx * ax[:, None] + dy * ay[:, None] >= d * math.cos(sonar.cone / 2)  # within the half angle
+        inside &= d + part * math.sqrt(0.5) <= (self.r - CARVE_MARGIN)[:, None]  # the far corner nearer
+        return np.logical_or.reduce(inside, axis=0)
 
 
 def seen_through_cells(centres: np.ndarray, cell: float, pose: np.ndarray, ranges: np.ndarray,
-                       sonar: SonarInfo) -> np.ndarray:
+                       sonar: SonarInfo, parts: np.ndarray | None = None) -> np.ndarray:
     """(M, CARVE_SUB ** 2) bool: :func:`seen_through` of the parts (:func:`cell_parts`) of the
     cells centred at ``centres`` (M, 2), side ``cell``, m, for one reading (``pose``, ``ranges``),
     the same values bit for bit, computed only for the cells that may have a part seen through.
@@ -208,29 +257,27 @@ def seen_through_cells(centres: np.ndarray, cell: float, pose: np.ndarray, range
     farthest offset from the centre) or all outside the cone (the disc of radius ``reach``
     round the centre lies outside it: the centre's angle off the axis exceeds half the cone
     plus ``asin(reach / distance)``). Both bounds are loosened by 1e-6 (m, rad) so that
-    rounding cannot skip a cell the part test would pass."""
+    rounding cannot skip a cell the part test would pass. ``parts``: the cells' parts
+    (:func:`cell_parts` of ``centres``) when the caller has them already."""
     c = np.asarray(centres, dtype=float).reshape(-1, 2)
     out = np.zeros((len(c), CARVE_SUB * CARVE_SUB), dtype=bool)
     if len(c) == 0:
         return out
     part = cell / CARVE_SUB
     reach = math.sqrt(2.0) * (cell - part) / 2  # centre to the farthest part centre
-    x, y, yaw = (float(v) for v in pose[:3])
-    cy, sy = math.cos(yaw), math.sin(yaw)
-    r = np.where(np.isfinite(ranges), np.minimum(ranges, sonar.max_range), sonar.max_range)
-    mx = x + cy * sonar.offsets[:, 0] - sy * sonar.offsets[:, 1]
-    my = y + sy * sonar.offsets[:, 0] + cy * sonar.offsets[:, 1]
-    dx, dy = c[:, None, 0] - mx[None, :], c[:, None, 1] - my[None, :]
-    d = np.hypot(dx, dy)  # (M, S)
-    near = d - reach + part * math.sqrt(0.5) <= r[None, :] - CARVE_MARGIN + 1e-6
-    ang = np.abs(np.arctan2(dy, dx) - (yaw + sonar.angles)[None, :])
-    ang = np.minimum(ang % (2 * math.pi), 2 * math.pi - ang % (2 * math.pi))  # off the axis, [0, pi]
+    mounts = _Mounts.of(pose, ranges, sonar)
+    dx, dy = c[None, :, 0] - mounts.mx[:, None], c[None, :, 1] - mounts.my[:, None]
+    d = np.hypot(dx, dy)  # (S, M): rows per sonar, so that the test over sonars ORs rows
+    near = d - reach + part * math.sqrt(0.5) <= (mounts.r - CARVE_MARGIN + 1e-6)[:, None]
+    ang = np.abs(np.arctan2(dy, dx) - (mounts.yaw + sonar.angles)[:, None])
+    ang %= 2 * math.pi
+    ang = np.minimum(ang, 2 * math.pi - ang)  # off the axis, [0, pi]
     spread = np.arcsin(np.minimum(reach / np.maximum(d, 1e-12), 1.0))
     facing = (d <= reach) | (ang <= sonar.cone / 2 + spread + 1e-6)
-    maybe = np.flatnonzero((near & facing).any(axis=1))
+    maybe = np.flatnonzero(np.logical_or.reduce(near & facing, axis=0))
     if len(maybe):
-        pts = cell_parts(c[maybe], cell).reshape(-1, 2)
-        out[maybe] = seen_through(pts, part, [(pose, ranges)], sonar).reshape(len(maybe), -1)
+        pts = (cell_parts(c[maybe], cell) if parts is None else parts[maybe]).reshape(-1, 2)
+        out[maybe] = mounts.see_through(pts[:, 0], pts[:, 1], part, sonar).reshape(len(maybe), -1)
     return out
 
 
@@ -288,7 +335,7 @@ def rollout(pose: np.ndarray, v: float, omega: float, horizon: float, steps: int
     """(steps, 2) positions, m, of a unicycle driving (v m/s, omega rad/s) from ``pose``
     (x, y, yaw) for ``horizon`` s, at ``horizon / steps`` intervals (the start excluded)."""
     t = _rollout_times(float(horizon), int(steps))
-    x, y, yaw = (float(p) for p in pose[:3])
+    x, y, yaw = np.asarray(pose, dtype=float)[:3].tolist()
     out = np.empty((len(t), 2))
     if abs(omega) < 1e-6:
         out[:, 0] = x + v * t * math.cos(yaw)
@@ -350,9 +397,14 @@ def echo_blocks(obs: Observation, v: float, omega: float, horizon: float, steps:
     arcs = echo_arcs(obs) if arcs is None else arcs
     if len(arcs) == 0:
         return False
-    path = rollout(np.array([0.0, 0.0, yaw]), v, omega, horizon, steps)  # robot frame, start excluded
     pts = arcs.reshape(-1, 2)
     d_now = np.hypot(pts[:, 0], pts[:, 1])
+    # the rollout stays within |v| horizon of the robot: an arc with a point farther than that
+    # beyond the footprint's reach cannot be hit whole (1e-6 m: rounding)
+    reach = obs.robot.radius + ECHO_MARGIN + abs(v) * horizon + 1e-6
+    if not (d_now < reach).reshape(arcs.shape[:2]).all(axis=1).any():
+        return False
+    path = rollout(np.array([0.0, 0.0, yaw]), v, omega, horizon, steps)  # robot frame, start excluded
     d_along = np.hypot(pts[:, None, 0] - path[None, :, 0], pts[:, None, 1] - path[None, :, 1]).min(axis=1)
     hit = (d_along < obs.robot.radius + ECHO_MARGIN) & (d_along < d_now - 0.005)
     return bool(np.any(hit.reshape(arcs.shape[:2]).all(axis=1)))
@@ -369,7 +421,7 @@ def is_safe(clear_now: float, clear_along: np.ndarray, required: float, floor: f
     little ratchet the robot onto the obstacle. The end is judged, not every point, so that a
     robot too near a corner may arc past it (a turn away first sweeps toward it)."""
     tol = SAFE_TOLERANCE
-    low = float(np.min(clear_along)) if len(clear_along) else math.inf
+    low = float(clear_along.min()) if len(clear_along) else math.inf
     if low >= required - tol:
         return True
     if floor is None:

@@ -150,6 +150,38 @@ def test_an_echo_arc_blocks_only_when_all_of_it_is_in_the_way() -> None:
     assert robot.radius == 0.2
 
 
+
+def full_echo_test(obs: Observation, v: float, omega: float, horizon: float, steps: int, yaw: float) -> bool:
+    """echo_blocks without its early rejection: every arc point against every rollout point."""
+    arcs = echo_arcs(obs)
+    if v == 0.0 or len(arcs) == 0:
+        return False
+    path = rollout(np.array([0.0, 0.0, yaw]), v, omega, horizon, steps)
+    pts = arcs.reshape(-1, 2)
+    d_now = np.hypot(pts[:, 0], pts[:, 1])
+    d_along = np.hypot(pts[:, None, 0] - path[None, :, 0], pts[:, None, 1] - path[None, :, 1]).min(axis=1)
+    hit = (d_along < obs.robot.radius + 0.02) & (d_along < d_now - 0.005)
+    return bool(np.any(hit.reshape(arcs.shape[:2]).all(axis=1)))
+
+
+def test_echo_blocks_rejects_far_echoes_early_with_the_full_tests_answers() -> None:
+    """The early return (no arc wholly within the rollout's reach) answers as the full test,
+    on 3,000 random echoes, speeds, turn rates and initial turns (both answers plentiful)."""
+    rng = np.random.default_rng(5)
+    answers = []
+    for _ in range(3000):
+        ranges = rng.uniform(0.0, 1.2, 6)
+        ranges[rng.random(6) < 0.3] = 3.0  # no echo
+        obs = observation((rng.uniform(0, 5), rng.uniform(0, 2), rng.uniform(-4, 4)), ranges)
+        v = float(rng.choice([0.0, 0.05, 0.1, 0.4, -0.1]))
+        omega, yaw = float(rng.uniform(-2, 2)), float(rng.choice([0.0, rng.uniform(-2, 2)]))
+        horizon, steps = float(rng.uniform(0.5, 1.5)), int(rng.integers(2, 25))
+        answer = echo_blocks(obs, v, omega, horizon, steps, yaw=yaw)
+        assert answer == full_echo_test(obs, v, omega, horizon, steps, yaw)
+        answers.append(answer)
+    assert 100 < sum(answers) < 2900
+
+
 # --------------------------------------------------------------------------- carving
 def test_cells_a_reading_saw_through_are_carved_away() -> None:
     robot = default_robot()
@@ -234,6 +266,22 @@ def test_point_obstacles_match_a_k_d_tree_bit_for_bit() -> None:
     big = PointObstacles(centres, 0.01, 0.44, (0.0, 0.0, 3.0, 3.0))
     assert np.array_equal(big(many), np.concatenate([big(many[i:i + 20]) for i in range(0, 300, 20)]))
     assert big(np.zeros((0, 2))).shape == (0,)
+
+
+def test_point_obstacles_answer_one_point_as_part_of_a_batch() -> None:
+    """The one-point query (the guard's clearance of the robot) equals the batch's value bit
+    for bit: near, at the bound, beyond it, outside the bounds, on a centre."""
+    rng = np.random.default_rng(2)
+    for _ in range(300):
+        centres = rng.uniform(0.0, 3.0, (int(rng.integers(1, 700)), 2))
+        obstacles = PointObstacles(centres, 0.01, 0.44, (0.0, 0.0, 3.0, 3.0))
+        a = rng.uniform(0.0, 2 * math.pi, 10)
+        at_bound = centres[0] + (0.44 + obstacles.radius) * np.stack([np.cos(a), np.sin(a)], axis=1)
+        q = np.concatenate([rng.uniform(-0.2, 3.2, (20, 2)), at_bound, centres[:3]])
+        batch = obstacles(q)
+        one = np.concatenate([obstacles(q[i:i + 1]) for i in range(len(q))])
+        assert one.dtype == batch.dtype and np.array_equal(one, batch)
+    assert PointObstacles(np.zeros((0, 2)), 0.01, 0.44, (0.0, 0.0, 3.0, 3.0))(np.array([[1.0, 1.0]]))[0] == 0.44
 
 
 # --------------------------------------------------------------------------- progress and recovery

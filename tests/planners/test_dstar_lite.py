@@ -288,6 +288,28 @@ def test_a_robot_moving_along_its_path_only_advances_an_offset() -> None:
     assert path_cost(cost, repair.cells) == pytest.approx(astar(cost, (6, 5), (5, 29))[0])
 
 
+def test_the_points_followed_are_the_cells_ahead_in_world_coordinates() -> None:
+    """Each cycle the follower's points (a slice of the full path's, PathRepair.span) are the
+    cells ahead converted anew, bit for bit, also while a small budget leaves repairs
+    unfinished (the safe prefix of the old path)."""
+
+    class Checked(DStarLite):
+        cycles = stale = 0
+
+        def update_path(self, obs: Observation) -> bool:
+            out = super().update_path(obs)
+            expected = self._to_world(self.repair.cells)
+            assert self.path_xy.shape == expected.shape and np.array_equal(self.path_xy, expected)
+            Checked.cycles += 1
+            Checked.stale += self.repair.stale
+            return out
+
+    world, start, goal = wall_world()
+    result = run(Checked(expansions_per_cycle=20), world, start, goal, time_s=40.0, noise_std=0.01)
+    assert result.reached
+    assert Checked.cycles > 100 and Checked.stale > 5
+
+
 # --------------------------------------------------------------------------- planning at once, splicing
 def consistent(search: DStarLiteSearch) -> bool:
     """Is every inner cell's rhs, recomputed from its successors, bit for bit its g?"""
