@@ -203,7 +203,9 @@ class PointClearance:
         self._cols = max(1, math.ceil(geometry.size[0] / self.bucket))
         self._rows = max(1, math.ceil(geometry.size[1] / self.bucket))
         self._near: dict[int, tuple[list[tuple[float, ...]], list[tuple[float, ...]]]] = {}
-        self._row_masks: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # built a row at a time
+        self._row_near: dict[int, tuple[tuple[np.ndarray, np.ndarray], ...]] = {}  # a row at a time
+        # half the height of each box's bounding box (its reach along y from its centre), m
+        self._box_extent_y = np.abs(self._sin) * self._half_x + np.abs(self._cos) * self._half_y
 
     def __call__(self, x: float, y: float) -> float:
         """Signed distance (m) from (x, y) to the nearest obstacle (negative inside; inf if none)."""
@@ -231,24 +233,30 @@ class PointClearance:
     def _primitives_near(self, col: int, row: int
                          ) -> tuple[list[tuple[float, ...]], list[tuple[float, ...]]]:
         """The boxes and cylinders within ``reach`` of some point of square (col, row)."""
-        masks = self._row_masks.get(row)
-        if masks is None:
-            masks = self._row_masks[row] = self._near_masks(row)
-        boxes, cylinders = masks
-        return ([self._box_rows[i] for i in np.flatnonzero(boxes[col]).tolist()],
-                [self._cyl_rows[i] for i in np.flatnonzero(cylinders[col]).tolist()])
+        near = self._row_near.get(row)
+        if near is None:
+            near = self._row_near[row] = self._near_in_row(row)
+        (box_ids, boxes), (cyl_ids, cylinders) = near
+        return ([self._box_rows[i] for i in box_ids[boxes[col]].tolist()],
+                [self._cyl_rows[i] for i in cyl_ids[cylinders[col]].tolist()])
 
-    def _near_masks(self, row: int) -> tuple[np.ndarray, np.ndarray]:
-        """(cols, boxes) and (cols, cylinders): which primitives are near each square of a row
-        of squares. Near: within reach + half a square's diagonal of its centre (distances are
-        1-Lipschitz), with a micrometre to spare for rounding."""
+    def _near_in_row(self, row: int) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+        """Which primitives are near each square of a row of squares, for boxes and for
+        cylinders: ``(ids, near)``, the primitives whose bounding box reaches the row's band
+        ((K,) indices) and, (cols, K), which of those are near each square. Near: within
+        reach + half a square's diagonal of its centre (distances are 1-Lipschitz), with a
+        micrometre to spare for rounding; a primitive that near a centre has its bounding box
+        within that distance of the centre's row, so the band loses none."""
         cx = ((np.arange(self._cols) + 0.5) * self.bucket)[:, None]
         cy = (row + 0.5) * self.bucket
         radius = self.reach + self.bucket * math.sqrt(0.5) + 1e-6
-        boxes = _box_distance(cx - self._box_x, cy - self._box_y, self._cos, self._sin,
-                              self._neg_sin, self._half_x, self._half_y) <= radius
-        cylinders = np.hypot(cx - self._cyl_x, cy - self._cyl_y) - self._cyl_r <= radius
-        return boxes, cylinders
+        b = np.flatnonzero(np.abs(self._box_y - cy) <= radius + self._box_extent_y)
+        boxes = _box_distance(cx - self._box_x[b], cy - self._box_y[b], self._cos[b],
+                              self._sin[b], self._neg_sin[b], self._half_x[b],
+                              self._half_y[b]) <= radius
+        c = np.flatnonzero(np.abs(self._cyl_y - cy) <= radius + self._cyl_r)
+        cylinders = np.hypot(cx - self._cyl_x[c], cy - self._cyl_y[c]) - self._cyl_r[c] <= radius
+        return (b, boxes), (c, cylinders)
 
 
 def _nearest_listed(x: float, y: float, boxes: list[tuple[float, ...]],
