@@ -18,6 +18,7 @@ at 240 Hz (and the 60 Hz split is printed beside it).
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
@@ -100,8 +101,9 @@ def _episode_figures(world: WorldSpec, world_file: str, planner: str, seconds: f
     once with a client of its own, then ``repeats`` times in one session as a batch worker
     plays its episodes. ``physics_hz``: the physics rate (None: the default).
     Returns the median repeat's real-time factor and non-physics share."""
-    settings = (EpisodeSettings(time_s=seconds) if physics_hz is None
-                else EpisodeSettings(time_s=seconds, physics_hz=physics_hz))
+    settings = EpisodeSettings(time_s=seconds)
+    if physics_hz is not None:
+        settings = dataclasses.replace(settings, physics_hz=physics_hz)
 
     def play(session: SimSession | None = None) -> tuple[dict, dict[str, float]]:
         result = run_episode(world, PlannerSetSpec(planner=planner), seed=0, session=session,
@@ -134,9 +136,10 @@ def run_perf(world_file: str = "worlds/paper/open_room.yaml", seconds: float | N
 
     # worlds by name, found in the project or the installed package from any working folder
     found = find("world", world_file)
-    rtf, _ = _episode_figures(load_world(found.path), found.given, "goal_seek", seconds)
+    world = load_world(found.path)
+    rtf, _ = _episode_figures(world, found.given, "goal_seek", seconds)
     # the share target's rate (module docstring)
-    _, not_physics = _episode_figures(load_world(found.path), found.given, "goal_seek", seconds,
+    _, not_physics = _episode_figures(world, found.given, "goal_seek", seconds,
                                       physics_hz=SHARE_TARGET_HZ)
     # a longer episode with the paper's method, whose grids make planning a real share
     steady = find("world", STEADY_WORLD)
