@@ -88,8 +88,6 @@ from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import STOP, arrival_speed, limit
 
-MOVING_SPEED = 0.05  # m/s: odometry speed above which a turn on the spot is capped at spin_rate
-
 
 def sector_distance(a: np.ndarray | float, b: np.ndarray | float, n: int) -> np.ndarray:
     """Circular distance between sector positions (may be fractional), in sectors."""
@@ -433,8 +431,6 @@ class VFHPlus(Planner):
               minimum=0.0),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the chosen direction is farther off",
               minimum=0.0, maximum=180.0),
-        Param("spin_rate", 1.0, "rad/s", "top turn rate of a turn on the spot begun while still moving",
-              minimum=0.0),
     )
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
@@ -451,14 +447,6 @@ class VFHPlus(Planner):
         self.blocked = False
         self.primary = np.zeros(self.n)
         self.masked = np.zeros(self.n, dtype=bool)
-        self.last_xy, self.last_t = np.asarray(obs.pose[:2], dtype=float), float(obs.t)
-
-    def _odometry_speed(self, xy: np.ndarray, t: float) -> float:
-        """Speed over the last cycle from the odometry poses, m/s (0 on the first)."""
-        dt = t - self.last_t
-        speed = float(np.hypot(*(xy - self.last_xy))) / dt if dt > 0 else 0.0
-        self.last_xy, self.last_t = xy, t
-        return speed
 
     def _sector(self, angle: float) -> float:
         return (angle % (2 * math.pi)) / self.alpha
@@ -469,7 +457,6 @@ class VFHPlus(Planner):
         self.grid.update(obs.pose, obs.ranges, obs.robot.sonar)
         xy, goal = np.asarray(obs.pose[:2], dtype=float), np.asarray(obs.goal, dtype=float)
         yaw = float(obs.pose[2])
-        speed = self._odometry_speed(xy, obs.t)
         d_goal = float(np.hypot(*(goal - xy)))
         r_rs = robot.radius + p.safety_distance
         # obstacles beyond the goal cannot block the way to it: the window shrinks to the goal
@@ -505,10 +492,6 @@ class VFHPlus(Planner):
             self.turn_sign = math.copysign(1.0, err)
         omega = 2.5 * err
         if abs(err) > math.radians(p.turn_in_place_deg):
-            # a full-rate spin from speed swerves: each wheel ramps alone (max_wheel_accel),
-            # so the outer one speeds up while the inner brakes and v holds for ~0.4 s
-            if speed > MOVING_SPEED:
-                omega = math.copysign(min(abs(omega), p.spin_rate), omega)
             v = 0.0
         else:
             density = float(self.primary[round(k_heading) % self.n])

@@ -432,17 +432,3 @@ def test_passes_a_one_metre_door_in_the_simulator() -> None:
     crossing = xy[np.argmax(xy[:, 0] > 5.0)]
     assert 3.5 < crossing[1] < 4.5  # through the door
 
-
-def test_a_turn_on_the_spot_from_speed_is_capped_at_spin_rate() -> None:
-    """Issue 12 (results/baselines/vfh_s11): the drive ramps each wheel alone, so a full-rate
-    spin from 0.4 m/s keeps the forward speed for ~0.4 s and swerves the body ~0.2 m into the
-    wall beside it. Goal behind the robot in an open room: moving (odometry 0.04 m in 0.1 s)
-    it turns on the spot at spin_rate 1 rad/s; standing still at the robot's 2 rad/s."""
-    world, _start, _goal = open_room()
-    robot = default_robot()
-    goal = np.array([1.0, 3.0])
-    for step, omega in ((0.04, 1.0), (0.0, 2.0)):
-        planner = VFHPlus()
-        planner.reset(observe(world, np.array([3.0, 3.0, 0.0]), goal, robot, 0.0, 0.1), np.random.default_rng(0))
-        cmd = planner.act(observe(world, np.array([3.0 + step, 3.0, 0.0]), goal, robot, 0.1, 0.1))
-        assert cmd.v == 0.0 and abs(cmd.omega) == pytest.approx(omega)
