@@ -234,6 +234,7 @@ class WallFollower:
     ahead_slack = 0.1  # m: an echo ahead this much farther than the side's still counts as nearest
     beside_sonars = math.radians(40.0)  # other-side sonars this far off the heading measure a passage
     edge_slack = 0.08  # m: a front echo this close to the other side's edge range is that side
+    max_turn_rate = 2.0  # rad/s: the turn on the spot's cap (11.5 deg a cycle at 10 Hz), see turn_rate
 
     def __init__(self, side: int, distance: float, speed: float, front: float,
                  k_dist: float = 2.0, memory_s: float = 3.0, reach: float = 0.6) -> None:
@@ -326,6 +327,15 @@ class WallFollower:
             return math.inf
         return ahead
 
+    def turn_rate(self, robot: RobotInfo) -> float:
+        """Rate (rad/s) of the turn on the spot away from a wall ahead: ``0.6 omega_max``, at
+        most ``max_turn_rate``. The simulated robot's 0.6 omega_max is 3.5 rad/s, 20 deg a
+        10 Hz cycle: at the mouth of a 0.5-0.65 m gap between two convex obstacles the headings
+        whose corridor ahead is clear span less than that, so the turn stepped over them, the
+        robot turned full circles on the spot and the episode ended ``oscillating`` (issue 12:
+        results/baselines/bugs_s8/classification.md)."""
+        return min(0.6 * robot.omega_max, self.max_turn_rate)
+
     def act(self, obs: Observation) -> Command:
         robot = obs.robot
         self.observe(obs)
@@ -350,7 +360,7 @@ class WallFollower:
         if ahead < front and (near is None or ahead <= near[0] + self.ahead_slack):
             # the nearest boundary is straight ahead: its tangent is a right angle away from
             # the side; turn on the spot until the way ahead is clear
-            return limit(0.0, -self.side * 0.6 * robot.omega_max, robot)
+            return limit(0.0, -self.side * self.turn_rate(robot), robot)
         if near is None:  # the boundary ended out of reach: arc round toward it
             return limit(0.6 * v, self.side * 0.6 * v / max(self.distance, 1e-3), robot)
         dist, bearing = near
