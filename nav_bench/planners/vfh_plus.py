@@ -28,16 +28,19 @@ just behind the goal would otherwise close the goal's sector for good):
 5. **Cost** ``mu1 D(c, goal) + mu2 D(c, heading) + mu3 D(c, previous choice)`` (D: angular
    difference in sectors); the cheapest candidate is the new direction.
 
-**The maze shuttle** (issue 12, ``results/baselines/vfh_s8/``): the shared grid marks a wall
-certain along its whole length, so a wall across a sector sums its cells within ``r_rs`` of
-the ray (five at 0.1 m cells) at any range, and with the 1.6 m window five certain cells pass
-``threshold_high`` 1.48 m away. In a 1 m maze corridor the way on then closes before the turn
-at its end comes into view, and the only valley points back: the robot shuttles between the
-corridor's ends (tests: the corridor's end wall, the L-turn). A 1.2 m window with ``b`` = 7.11
-(the same near weight ``a`` = 11.24; the wall closes a sector from 1.13 m) and
-``slow_density`` 3000 passes the turn. Over the 35 paper episodes and 120 generated layouts it
-reached 65 against 51, but 31 episodes had a contact against 29 and 20 timed out against 15,
-so it is not the default. Pass those three values to study it.
+**The window's size** (issue 12, ``results/baselines/vfh_s8/`` and ``vfh_s11/``): 1.2 m with
+``b`` = 7.11, so ``a = 1 + b 1.2^2`` = 11.24 is the near weight the earlier 1.6 m window with
+``b = 4`` had. The shared grid marks a wall certain along its whole length, so a wall across a
+sector sums its cells within ``r_rs`` of the ray (five at 0.1 m cells) at any range; with the
+1.6 m window five certain cells passed ``threshold_high`` 1.48 m away, and in a 1 m maze
+corridor the way on closed before the turn at its end came into view: the only valley pointed
+back, and the robot shuttled between the corridor's ends (tests: the corridor's end wall, the
+L-turn). Now such a wall closes the sector from 1.13 m. The smaller window's sums are smaller,
+so ``slow_density`` is 3000 (was 5000): a certain wall across the heading still stops the robot
+1.1 m away. Side by side with the 1.6 m window over 280 episodes (the eighth session's gate and
+the eleventh session's replication on new layouts and seeds) it reached 119 against 90, with
+46 episodes with a contact against 48. ``window_radius: 1.6, distance_weight: 4,
+slow_density: 5000`` gives the old behaviour.
 
 Speed falls with the histogram density in the current heading (``v_max (1 - min(H, h_m)/h_m)``)
 and with the heading error.

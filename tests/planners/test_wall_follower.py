@@ -1,8 +1,8 @@
 """WallFollower on the kinematic harness: it holds a wall at its distance, rounds a wall's
 end, and never follows the opposite wall of a 1 m corridor (issue 12: Bug2 and TangentBug
 lost the wall in mazes, offices and clutter), and, on a harness with the simulated diffbot's
-turning inertia, that its turn on the spot does not yet stop on a way out of a junction of
-narrow gaps (a strict xfail).
+turning inertia, that its turn on the spot (capped at 2 rad/s) stops on a way out of a
+junction of narrow gaps.
 
 Runtime: ~2 s.
 """
@@ -226,9 +226,6 @@ def posts_world(posts: tuple[tuple[float, float, float], ...], size: tuple[float
 CLUTTER_0_POSTS = ((3.13, 4.878, 0.388), (2.047, 4.594, 0.213), (2.83, 3.625, 0.388))
 
 
-@pytest.mark.xfail(strict=True, reason="issue 12, class A of results/baselines/bugs_s8/classification.md: "
-                   "the turn on the spot carries past the way out (not fixed: the gate of a capped "
-                   "turn rate lost one Bug2 episode)")
 def test_a_follower_at_a_junction_of_narrow_gaps_stops_its_turn_on_a_way_out() -> None:
     """Issue 12: in the simulator TangentBug's follower turned full circles on the spot between
     three posts (clutter_0) until the episode ended ``oscillating``. Turning at 0.6 omega_max
@@ -236,8 +233,9 @@ def test_a_follower_at_a_junction_of_narrow_gaps_stops_its_turn_on_a_way_out() -
     clear, past the narrow band of headings that lead out through a 0.5-0.65 m gap, met a post
     ahead again and turned on. On this harness with the diffbot's inertia the follower turns
     2833 deg in 30 s from the ending's pose and never gets 0.5 m away (from 36 start poses at
-    the junction, 5 end turning on the spot). With the turn capped at 2.0 rad/s (tried on
-    branch s8follow, not shipped) the robot was out within 3 s, and 0 of the 36 ended so."""
+    the junction, 5 end turning on the spot). With the turn capped at 2.0 rad/s
+    (``WallFollower.max_turn_rate``, shipped in the eleventh session) the robot is out within
+    3 s, and 0 of the 36 end so."""
     start = (2.518, 4.373, 0.222)  # where the simulated episode ended, heading 13 deg
     world = posts_world(CLUTTER_0_POSTS, (5.0, 7.0))
     poses = drive(WallFollower(LEFT, distance=0.4, speed=0.4, front=0.45), world, start, 30.0,
