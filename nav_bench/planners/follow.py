@@ -366,7 +366,13 @@ class WallFollower:
         dist, bearing = near
         correction = max(-self.max_correction, min(self.max_correction, self.k_dist * (dist - target)))
         heading = bearing - self.side * math.pi / 2 + self.side * correction
-        return steer(obs, heading, 0.0 if ahead < front else v)
+        # an echo ahead within ``front`` but farther than the side (+ ahead_slack) is not yet the
+        # nearest boundary: drive on along the side until it is, then the rule above turns.
+        # Stopping short of it (v = 0 with the heading on the tangent) left a dead band where
+        # neither rule moved the robot: it stood with the wall 0.27-0.29 m beside and an echo
+        # 0.40-0.42 m ahead (issue 12: results/baselines/bugs_s8/classification.md, office_6;
+        # results/baselines/follow_s12, office_11)
+        return steer(obs, heading, v)
 
 
 # ----------------------------------------------------------------------------- echo memory
