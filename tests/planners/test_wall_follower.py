@@ -245,3 +245,50 @@ def test_a_follower_at_a_junction_of_narrow_gaps_stops_its_turn_on_a_way_out() -
     assert away[:50].any()  # out of the junction within 5 s
     turned = np.abs(np.diff(np.unwrap(poses[:, 2]))).sum()
     assert math.degrees(turned) < 1500.0  # it turns 2833 deg
+
+
+# ----------------------------------------------------------------------------- issue 12, twelfth session
+def test_an_echo_ahead_farther_than_the_side_wall_is_driven_toward_not_stood_before() -> None:
+    """The dead band (results/baselines/follow_s12): with the followed wall 0.29 m beside and a
+    wall across the way 0.42 m ahead (heard 0.41 m ahead, farther than the side + ahead_slack),
+    the follower neither turned (the wall ahead is not the nearest boundary) nor drove (it is
+    within ``front``): v = 0 with the heading on the tangent, where the simulated robot stood
+    for a third of office_11's last 30 s. It drives on until the wall ahead is the nearest."""
+    world = BoxWorld.room((6.0, 3.0), [(2.42, 0.0, 2.62, 3.0)])
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    obs = observe(world, np.array([2.0, 0.29, 0.0]), np.array([100.0, 100.0]), default_robot(), 0.0, DT, rays=7)
+    near = follower.nearest(obs)
+    assert near is not None and near[0] == pytest.approx(0.29, abs=0.01)
+    assert near[0] + follower.ahead_slack < follower._ahead(obs, math.inf) < follower.front
+    assert follower.act(obs).v > 0.3
+
+
+# a passage 0.6 m wide between the followed wall (y = 0) and a box whose corner lies ahead-left
+PASSAGE_MOUTH = [(2.5, 0.6, 4.0, 1.2)]
+
+
+def test_an_obstacle_only_the_other_side_hears_ahead_is_the_far_side_of_a_gap_to_take() -> None:
+    """At the mouth of a 0.6 m passage whose other side begins with a convex corner ahead, the
+    other side's front sonar heard the corner 0.38 m ahead and the follower turned on the spot
+    away from it (its side is beside, not ahead, so the narrow-passage mode did not see the
+    passage): inside a cell whose exits are such gaps, the robot turned full circles
+    (office_2, office_16, clutter_3). ``gap_across`` measures the gap from the followed wall's
+    nearest point to that echo, and the follower drives into it."""
+    world = BoxWorld.room((6.0, 3.0), PASSAGE_MOUTH)
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    obs = observe(world, np.array([2.1, 0.4, 0.2]), np.array([100.0, 100.0]), default_robot(), 0.0, DT, rays=7)
+    near = follower.nearest(obs)
+    assert near is not None
+    assert follower.gap_across(obs, near) == pytest.approx(0.6, abs=0.1)  # echo on the axis: 0.68
+    cmd = follower.act(obs)
+    assert cmd.v > 0.3 and cmd.omega < 0.0  # on, turning toward the followed side
+
+
+def test_a_wall_across_the_way_is_not_a_gap() -> None:
+    """A wall across the way is heard by the followed side's front sonar too: no gap."""
+    world = BoxWorld.room((6.0, 3.0), [(2.42, 0.0, 2.62, 3.0)])
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    obs = observe(world, np.array([2.05, 0.4, 0.0]), np.array([100.0, 100.0]), default_robot(), 0.0, DT, rays=7)
+    near = follower.nearest(obs)
+    assert near is not None and math.isinf(follower.gap_across(obs, near))
+    assert follower.act(obs).v == 0.0  # the wall ahead: a turn on the spot
