@@ -327,24 +327,6 @@ class WallFollower:
             return math.inf
         return ahead
 
-    def gap_across(self, obs: Observation, near: tuple[float, float]) -> float:
-        """Width (m) of a gap ahead between the followed boundary and an obstacle on the other
-        side: the distance from the boundary's nearest point ``near`` (distance m, world bearing
-        rad) to the nearest echo that the other side's front sonars place in the corridor ahead
-        within ``front``, when the followed side's front sonars place none there; ``inf``
-        otherwise (nothing ahead, or a wall ahead that the followed side hears too)."""
-        robot = obs.robot
-        s = robot.sonar
-        hits = robot_frame_hits(obs)
-        watching = np.abs(s.angles) <= self.front_sonars
-        blocking = echo_mask(obs) & watching & in_corridor(hits, self.front, corridor_half_width(robot))
-        if not blocking.any() or np.any(blocking & (self.side * s.angles >= 0.0)):
-            return math.inf
-        dist, bearing = near
-        rel = bearing - float(obs.pose[2])
-        d = hits[blocking] - np.array([dist * math.cos(rel), dist * math.sin(rel)])
-        return float(np.min(np.hypot(d[:, 0], d[:, 1])))
-
     def turn_rate(self, robot: RobotInfo) -> float:
         """Rate (rad/s) of the turn on the spot away from a wall ahead: ``0.6 omega_max``, at
         most ``max_turn_rate``. The simulated robot's 0.6 omega_max is 3.5 rad/s, 20 deg a
@@ -370,31 +352,11 @@ class WallFollower:
                 target = 0.5 * width
             else:
                 other = math.inf
-            gap = self.gap_across(obs, near) if math.isinf(other) else math.inf
-            if 2.0 * corridor_half_width(robot) <= gap < 2.0 * self.distance:
-                # the other side's front sonar hears an obstacle ahead that the followed side's
-                # does not: a gap between it and the boundary's nearest point (often a corner
-                # being rounded), narrower than ``distance`` on both sides but wide enough for the
-                # body. Hold its middle and take it: turned away from, such gaps closed small
-                # cells round the robot, which turned on the spot there until the episode ended
-                # (issue 12: results/baselines/follow_s12). Echoes nearer than the middle still
-                # count as a wall ahead.
-                target = 0.5 * gap
-                ahead = obstacle_ahead(obs, target, corridor_half_width(robot), within=self.front_sonars)
-                return self._follow(obs, near, target, min(self.front, target + self.ahead_slack), ahead, v)
         ahead = self._ahead(obs, other)
         # in a narrow passage the followed side is nearer than ``distance``: the robot drives on
         # until a wall ahead is as near as that side (+ ahead_slack) and then turns, rather than
         # stop short of it, where neither rule below would move it again
         front = self.front if math.isinf(other) else min(self.front, target + self.ahead_slack)
-        return self._follow(obs, near, target, front, ahead, v)
-
-    def _follow(self, obs: Observation, near: tuple[float, float] | None, target: float,
-                front: float, ahead: float, v: float) -> Command:
-        """The command: turn on the spot away from a boundary ``ahead`` (m) within ``front`` (m)
-        that is the nearest, else arc toward a boundary out of reach (``near`` None), else
-        drive at ``v`` (m/s) along the tangent of ``near`` held at ``target`` (m)."""
-        robot = obs.robot
         if ahead < front and (near is None or ahead <= near[0] + self.ahead_slack):
             # the nearest boundary is straight ahead: its tangent is a right angle away from
             # the side; turn on the spot until the way ahead is clear
