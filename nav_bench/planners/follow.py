@@ -234,7 +234,6 @@ class WallFollower:
     ahead_slack = 0.1  # m: an echo ahead this much farther than the side's still counts as nearest
     beside_sonars = math.radians(40.0)  # other-side sonars this far off the heading measure a passage
     edge_slack = 0.08  # m: a front echo this close to the other side's edge range is that side
-    band_heading = math.radians(15.0)  # drive toward an echo ahead not yet the nearest only this close to the tangent
     max_turn_rate = 2.0  # rad/s: the turn on the spot's cap (11.5 deg a cycle at 10 Hz), see turn_rate
 
     def __init__(self, side: int, distance: float, speed: float, front: float,
@@ -373,10 +372,7 @@ class WallFollower:
         # neither rule moved the robot: it stood with the wall 0.27-0.29 m beside and an echo
         # 0.40-0.42 m ahead (issue 12: results/baselines/bugs_s8/classification.md, office_6;
         # results/baselines/follow_s12, office_11)
-        # Only on the tangent (within ``band_heading``) though: turned off it by the turn on the
-        # spot, the robot first turns back onto it, as before, or it drove at the followed side.
-        on_tangent = abs(wrap_angle(heading - float(obs.pose[2]))) <= self.band_heading
-        return steer(obs, heading, v if ahead >= front or on_tangent else 0.0)
+        return steer(obs, heading, v)
 
 
 # ----------------------------------------------------------------------------- echo memory
