@@ -234,7 +234,6 @@ class WallFollower:
     ahead_slack = 0.1  # m: an echo ahead this much farther than the side's still counts as nearest
     beside_sonars = math.radians(40.0)  # other-side sonars this far off the heading measure a passage
     edge_slack = 0.08  # m: a front echo this close to the other side's edge range is that side
-    band_speed = 0.1  # m/s: the drive toward an echo ahead that is not yet the nearest boundary
     max_turn_rate = 2.0  # rad/s: the turn on the spot's cap (11.5 deg a cycle at 10 Hz), see turn_rate
 
     def __init__(self, side: int, distance: float, speed: float, front: float,
@@ -367,15 +366,7 @@ class WallFollower:
         dist, bearing = near
         correction = max(-self.max_correction, min(self.max_correction, self.k_dist * (dist - target)))
         heading = bearing - self.side * math.pi / 2 + self.side * correction
-        # an echo ahead within ``front`` but farther than the side (+ ahead_slack) is not yet the
-        # nearest boundary: drive on along the side until it is, then the rule above turns.
-        # Stopping short of it (v = 0 with the heading on the tangent) left a dead band where
-        # neither rule moved the robot: it stood with the wall 0.27-0.29 m beside and an echo
-        # 0.40-0.42 m ahead (issue 12: results/baselines/bugs_s8/classification.md, office_6;
-        # results/baselines/follow_s12, office_11). At a creep (``band_speed``): at full speed
-        # the body grazed the obstacle ahead before the turn (the gate of 9cdeae7: contact
-        # episodes 7 -> 18 in the families, most of them just after such a drive).
-        return steer(obs, heading, v if ahead >= front else min(v, self.band_speed))
+        return steer(obs, heading, 0.0 if ahead < front else v)
 
 
 # ----------------------------------------------------------------------------- echo memory
