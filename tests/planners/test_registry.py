@@ -9,7 +9,7 @@ import pytest
 
 from nav_bench.errors import InputError, SpecError, UnknownNameError
 from nav_bench.planners import registry as reg
-from nav_bench.planners.registry import PlannerRegistry, parse_planner_arg
+from nav_bench.planners.registry import PlannerRegistry, load_planner_set, parse_planner_arg
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -87,3 +87,30 @@ def test_unknown_parameter_in_a_file_names_file_key_and_line(tmp_path):
     err = info.value
     assert (err.file, err.key_path, err.line) == (str(path), "params.lamda1", 4)
     assert "Did you mean 'lambda1'?" in err.problem
+
+
+
+def _files_of_defaults() -> dict[str, bool]:
+    """The planner files whose header says they hold their planner's defaults: file stem ->
+    whether they list every parameter ("spelled out") or a part (eopc_paper: the paper's)."""
+    files = {}
+    for path in sorted((ROOT / "configs/planners").glob("*.yaml")):
+        text = path.read_text()
+        if "spelled out" in text or "every value here is the planner's default" in text:
+            files[path.stem] = "spelled out" in text
+    return files
+
+
+def test_the_baselines_and_eopc_paper_are_files_of_defaults() -> None:
+    assert {"apf", "bug2", "dstar_lite", "dwa", "dwa_global", "eopc_paper", "tangent_bug",
+            "vfh_plus"} <= set(_files_of_defaults())
+
+
+@pytest.mark.parametrize("stem, complete", sorted(_files_of_defaults().items()))
+def test_a_file_of_defaults_equals_the_planners_params(stem: str, complete: bool) -> None:
+    # the defaults have two homes, the planner's Param list and this file: they must not drift
+    spec = load_planner_set(ROOT / "configs/planners" / f"{stem}.yaml")
+    defaults = {p.name: p.default for p in reg.default_registry().get(spec.planner).params}
+    assert spec.params == {name: defaults[name] for name in spec.params}
+    if complete:
+        assert set(spec.params) == set(defaults)

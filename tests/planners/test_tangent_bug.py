@@ -177,9 +177,9 @@ def replay_commands(name: str, planner: Planner) -> tuple[np.ndarray, np.ndarray
 @pytest.mark.parametrize("name", ["tangent_bug_clutter_40m_60s", "tangent_bug_concave_trap_60s",
                                   "tangent_bug_labyrinth_60s", "tangent_bug_very_complex_60s",
                                   "bug2_very_complex_40s", "dwa_clutter_40m_20s"])
-def test_replayed_episode_gives_the_recorded_commands_bit_for_bit(name: str) -> None:
+def test_replayed_episode_gives_the_recorded_commands(name: str) -> None:
     """The per-cycle polar view, the binned range function, no endpoints while following and
-    the buffered echo memory change no command (==) of a recorded episode: TangentBug's cover
+    the buffered echo memory change no command of a recorded episode: TangentBug's cover
     motion to goal with the goal blocked (169 cycles of the binned range function), boundary
     following (58 switches to it) and back, and the unreachable ending, with memories of 400-460
     echoes at the end; Bug2 and DWA share the echo memory."""
@@ -187,4 +187,7 @@ def test_replayed_episode_gives_the_recorded_commands_bit_for_bit(name: str) -> 
     planner = {"tangent_bug": TangentBug, "bug2": Bug2, "dwa": DWA}[kind]()
     got, want = replay_commands(name, planner)
     assert got.shape == want.shape
-    np.testing.assert_array_equal(got, want)
+    # equal on the machine that recorded them; NumPy picks its SIMD kernels by CPU (AVX-512 or
+    # not), and their results differ in the last bit (1e-15 here), while a changed decision
+    # moves a command by far more than 1e-9
+    np.testing.assert_allclose(got, want, rtol=0.0, atol=1e-9)
