@@ -414,7 +414,7 @@ class VFHPlus(Planner):
               minimum=1),
         Param("window_radius", 1.2, "m", "radius of the active window around the robot", minimum=0.1),
         Param("sector_deg", 5.0, "deg", "angular width of a histogram sector", minimum=0.5, maximum=45.0),
-        Param("safety_distance", 0.0, "m", "distance added to the robot radius to enlarge cells", minimum=0.0),
+        Param("safety_distance", 0.05, "m", "distance added to the robot radius to enlarge cells", minimum=0.0),
         Param("distance_weight", 7.11, "1/m^2", "b in m = c^2 (a - b d^2): how much nearer cells weigh",
               minimum=0.0),
         Param("threshold_low", 1500.0, "-", "histogram value below which a sector becomes free", minimum=0.0),
