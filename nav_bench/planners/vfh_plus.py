@@ -190,29 +190,6 @@ def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: fl
     return ActiveWindow(cx, cy, cert, dx, dy, dist)
 
 
-def boundary_cells(frame: GridFrame, xy: np.ndarray, radius: float) -> np.ndarray:
-    """(M, 2) centres, m, of the cells just outside the grid's edges within ``radius`` m of
-    ``xy``: the world's outer wall, which the grid cannot hold (its face is the grid's edge, so
-    echoes fall in the edge cells that free readings then carve away)."""
-    xs, ys = centre_coordinates(frame)
-    x0, x1 = frame.xmin - frame.cell / 2, xs[-1] + frame.cell
-    y0, y1 = frame.ymin - frame.cell / 2, ys[-1] + frame.cell
-    edges = [np.stack([np.full(len(ys), x), ys], axis=1) for x in (x0, x1)]
-    edges += [np.stack([xs, np.full(len(xs), y)], axis=1) for y in (y0, y1)]
-    cells = np.concatenate(edges)
-    return cells[np.hypot(*(cells - xy).T) <= radius]
-
-
-def with_boundary(window: ActiveWindow, frame: GridFrame, xy: np.ndarray, radius: float,
-                  c_max: float) -> ActiveWindow:
-    """The ``window`` plus :func:`boundary_cells` at certainty ``c_max``."""
-    extra = boundary_cells(frame, xy, radius)
-    if len(extra) == 0:
-        return window
-    cells = np.concatenate([np.stack([window.x, window.y], axis=1), extra])
-    return ActiveWindow.of_cells(cells, np.r_[window.certainty, np.full(len(extra), c_max)], xy)
-
-
 def active_cells(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
                  c_max: float) -> tuple[np.ndarray, np.ndarray]:
     """Centres (M, 2) m and certainties (M,) of the cells with certainty > 0 within ``radius``
@@ -488,7 +465,6 @@ class VFHPlus(Planner):
         # obstacles beyond the goal cannot block the way to it: the window shrinks to the goal
         window = read_window(self.grid.values(copy=False), self.frame, xy, min(p.window_radius, d_goal),
                              p.c_max)
-        window = with_boundary(window, self.frame, xy, min(p.window_radius, d_goal), p.c_max)
         bearings = window.bearings()
         self.primary = window_histogram(window, bearings, self.n, r_rs, p.window_radius, p.distance_weight)
         self.binary = binary_histogram(self.primary, self.binary, p.threshold_low, p.threshold_high)
