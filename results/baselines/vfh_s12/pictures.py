@@ -62,9 +62,9 @@ def panel(ax, tr, meta, world, title):
 
 def local_minimum(trace_dir: Path, out: Path) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(12, 5.2), gridspec_kw={"width_ratios": [1, 1.45]})
-    for ax, name, text in ((axes[0], "maze_16", "maze_16: timeout 261 s; way on climbs 1.7 m (SW)"),
-                           (axes[1], "office_7", "office_7: timeout 289.5 s; goal behind the wall, "
-                                                 "door 3 m back west")):
+    for ax, name, text in ((axes[0], "maze_16", "maze_16: timeout 261 s; the way on (SW) first climbs 3.9 m"),
+                           (axes[1], "office_7", "office_7: timeout 289.5 s; goal behind the wall y = 3.55, "
+                                                 "the way on (back west) climbs 2.4 m")):
         tr, meta, world = load(trace_dir / f"{name}.npz")
         panel(ax, tr, meta, world, text)
     axes[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
