@@ -33,7 +33,13 @@ less than TangentBug assumes, which is the point of comparing it on this robot.
   (``d_goal - min(free length, d_goal)`` from the range function, evaluated only when the
   goal direction lies within the sonars' field of view). Leave when ``d_reach < d_followed - leave_margin``.
 * **Unreachable**: back where following began (``loop_radius``) after a lap round the
-  followed boundary (net turn toward the followed side) -> stop and emit ``unreachable``.
+  followed boundary (net turn toward the followed side) -> one more, *strict* lap (a
+  ``replan`` event with ``reason="strict_lap"``): ``d_followed`` becomes the least goal
+  distance of the follower's nearest side echo since following began, and takes only that
+  echo from then on. The rule above also counts echoes of another obstacle across a passage
+  (very_complex: a wall 1 m beyond the box being lapped), which can make leaving never pay
+  (issue 12's false ``unreachable``); it stays in force until a lap closes because mazes are
+  solved by it. A second lap -> stop and emit ``unreachable``.
 
 Each switch to boundary following emits a ``replan`` event.
 
@@ -217,6 +223,8 @@ class TangentBug(Planner):
         self.acquired = False
         self._blocking: np.ndarray | None = None  # where the approach to a boundary heads
         self.d_followed = math.inf
+        self.d_followed_side = math.inf
+        self.strict_lap = False
         self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius)
         self.bins = range_bins(p.directions)
         self._endpoint: list[float] | None = None
@@ -283,6 +291,8 @@ class TangentBug(Planner):
         self._blocking = blocking
         self.follower = self.followers[side]
         self.d_followed = math.inf
+        self.d_followed_side = math.inf  # from the follower's nearest side echo only
+        self.strict_lap = False
         self.loop.side = side
         self.loop.arm(xy, float(obs.pose[2]))
         self._follow_starts.append([float(xy[0]), float(xy[1])])
@@ -343,13 +353,19 @@ class TangentBug(Planner):
         rel = self.side * obs.robot.sonar.angles
         near = np.asarray(obs.ranges) < p.wall_distance + 0.6
         side_echo = echo_mask(obs) & near & (rel > math.radians(-20))
-        if side_echo.any():
+        if side_echo.any() and not self.strict_lap:
             hits = obs.sonar_hits()[side_echo]
             self.d_followed = min(self.d_followed, float(np.hypot(*(hits - goal).T).min()))
+        self.d_followed_side = min(self.d_followed_side, self._nearest_side_goal_distance(obs, xy, goal))
+        if self.strict_lap:
+            self.d_followed = self.d_followed_side
         if self.loop.update(xy, float(obs.pose[2])):
-            self.mode = UNREACHABLE
-            self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
-            return STOP
+            if not self.strict_lap:
+                self._start_strict_lap(obs, xy)
+            else:
+                self.mode = UNREACHABLE
+                self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
+                return STOP
         # d_reach = d_goal - free length when the goal direction is in view, else inf (never
         # below d_followed): the free length is only worked out when it can make the robot leave
         if self.acquired and abs(wrap_angle(theta_g - float(obs.pose[2]))) <= self._half_fov:
@@ -361,6 +377,29 @@ class TangentBug(Planner):
         if not self.acquired:  # first approach the boundary that blocks the way
             return self._approach(obs, xy, v) or self.follower.act(obs)
         return self.follower.act(obs)
+
+    def _nearest_side_goal_distance(self, obs: Observation, xy: np.ndarray, goal: np.ndarray) -> float:
+        """Goal distance (m) of the follower's nearest echo on the followed side (the boundary
+        it keeps), ``inf`` if there is none."""
+        assert self.follower is not None
+        boundary = self.follower.nearest(obs)
+        if boundary is None:
+            return math.inf
+        dist, bearing = boundary
+        point = xy + dist * np.array([math.cos(bearing), math.sin(bearing)])
+        return float(np.hypot(*(point - goal)))
+
+    def _start_strict_lap(self, obs: Observation, xy: np.ndarray) -> None:
+        """A lap closed with ``d_followed`` from every near echo ahead and on the followed side:
+        that rule also takes echoes of another obstacle across a passage (very_complex: a wall
+        0.95-1.2 m beyond the box being lapped), so leaving may never have paid although the
+        goal is reachable (issue 12). Lap once more with ``d_followed`` from the follower's
+        nearest side echo only (the followed boundary); a second lap means unreachable. Until
+        a first lap closes the rule is unchanged: mazes are solved by it."""
+        self.strict_lap = True
+        self.d_followed = self.d_followed_side
+        self.loop.arm(xy, float(obs.pose[2]))
+        self.emit("replan", obs.t, reason="strict_lap", side="left" if self.side == LEFT else "right")
 
     def _approach(self, obs: Observation, xy: np.ndarray, v: float) -> Command | None:
         """Head for the blocking obstacle's point (or the nearest remembered echo) until the

@@ -25,7 +25,7 @@ from nav_bench.planners.tangent_bug import (
     range_bins,
     range_function,
 )
-from nav_bench.testing.harness import default_robot, run, u_world, wall_world
+from nav_bench.testing.harness import BoxWorld, default_robot, run, u_world, wall_world
 
 REPLAY = Path(__file__).resolve().parents[1] / "data" / "planner_replay"
 
@@ -81,6 +81,23 @@ def test_stops_following_when_the_goal_is_reachable() -> None:
     rel = tail - tail[0]
     lateral = np.abs(rel[:, 0] * direction[1] - rel[:, 1] * direction[0])
     assert lateral.max() < 0.1
+
+
+def test_a_wall_across_the_passage_beyond_a_box_does_not_end_in_a_false_unreachable() -> None:
+    """Issue 12 (very_complex): the robot follows a box with a long wall 1 m beyond it, the goal
+    beyond the wall. ``d_followed`` takes the wall's echoes across the passage, so leaving the
+    box never pays and the base reported ``unreachable`` after one lap (27.8 s). Now the closed
+    lap starts a second one with ``d_followed`` from the followed boundary only: the robot
+    leaves the box, follows the wall round its end and reaches the goal."""
+    world = BoxWorld.room((12.0, 8.0), [(4.0, 3.0, 5.0, 4.0),   # the box beside the start
+                                        (0.0, 5.0, 8.0, 5.2)])  # the wall, 1 m beyond it
+    result = run(TangentBug(), world, (3.4, 3.5, 0.0), (6.5, 6.5), time_s=150.0, seed=0)
+    reasons = [d.get("reason") for kind, _, d in result.events if kind == "replan"]
+    assert result.kinds("unreachable") == 0
+    assert reasons == ["follow_boundary", "follow_boundary", "strict_lap", "follow_boundary"]
+    assert result.reached and result.collisions == 0
+    assert result.time == pytest.approx(114.6, abs=0.05)
+    assert result.path_length == pytest.approx(42.26, abs=0.01)
 
 
 # ----------------------------------------------------------------------------- issue 16: cost
