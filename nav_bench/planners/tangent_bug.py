@@ -180,6 +180,31 @@ def blocked_interval_edges(blocked: np.ndarray, k: int) -> tuple[int, int] | Non
     return (k - cw) % n, (k + ccw) % n
 
 
+def obstacle_interval_edges(rho: np.ndarray, blocked: np.ndarray, k: int,
+                            jump: float) -> tuple[int, int] | None:
+    """The first bin clockwise and counter-clockwise past the *obstacle* that blocks bin ``k``
+    (bins ordered CCW, circular): the run of blocked bins round ``k`` whose ``rho`` (m) does
+    not jump by more than ``jump`` m from one bin to the next. A bin is past it when it is
+    free or when its ``rho`` jumps: a discontinuity of the range function, where TangentBug
+    puts an endpoint (Kamon et al. 1998). A bin whose ``rho`` is not finite (``k`` may be
+    forced blocked) joins either neighbour. ``None`` if the run goes all round."""
+    n = len(blocked)
+
+    def steps(direction: int) -> int | None:
+        last = rho[k]
+        for i in range(1, n):
+            b = (k + direction * i) % n
+            if not blocked[b] or (math.isfinite(last) and math.isfinite(rho[b]) and abs(rho[b] - last) > jump):
+                return i
+            last = rho[b] if math.isfinite(rho[b]) else last
+        return None
+
+    ccw, cw = steps(1), steps(-1)
+    if ccw is None or cw is None:
+        return None
+    return (k - cw) % n, (k + ccw) % n
+
+
 class TangentBug(Planner):
     """TangentBug (Kamon, Rivlin & Rimon 1998) on a sonar ring with a short echo memory."""
 
@@ -268,7 +293,7 @@ class TangentBug(Planner):
         n = len(self.bins)
         k_goal = int(np.argmin(np.abs(np.remainder(self.bins - theta_g + math.pi, 2 * math.pi) - math.pi)))
         blocked[k_goal] = True
-        edges = blocked_interval_edges(blocked, k_goal)
+        edges = obstacle_interval_edges(rho, blocked, k_goal, obs.robot.radius + self.settings.clearance)
         if edges is None:
             return False, []
         out = []
