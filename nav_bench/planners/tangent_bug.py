@@ -14,8 +14,15 @@ have none). Directions not sensed in the memory window count as free: the planne
 less than TangentBug assumes, which is the point of comparing it on this robot.
 
 * **Motion to goal**: if the goal direction is free, drive to the goal. Otherwise the
-  blocked interval of directions containing the goal has two edges; the endpoint ``O`` of
-  each is the first free direction past the edge, at the distance of the boundary there.
+  obstacle that blocks it spans an interval of directions with two edges: the blocked
+  directions round the goal direction whose ``rho`` does not jump by more than the grown
+  radius (``radius + clearance``) from one direction to the next (a jump is a discontinuity
+  of the range function: another obstacle, nearer or farther, with a gap between).
+  The endpoint ``O`` of each edge is the first direction past it (free, or another
+  obstacle's), at the distance of the boundary at the edge. (An interval of every blocked
+  direction, whatever its ``rho``, took a box 0.6 m beside the robot and a wall 1 m beyond
+  it for one obstacle, so the robot followed the box instead of the wall that blocked the
+  way, lapped it and concluded ``unreachable``: issue 12, very_complex.)
   The robot heads for the endpoint minimising the heuristic distance
   ``h = |x - O| + |O - goal|``. When ``h`` has not improved on its minimum by ``h_epsilon``
   for ``stall_cycles`` cycles in which the robot moved (it *stops decreasing*), boundary following starts in the
@@ -169,17 +176,6 @@ def binned_range_function(points: np.ndarray | PolarEchoes, xy: np.ndarray, grow
     return np.minimum(np.minimum(rho[:n], rho[n:2 * n]), rho[2 * n:])
 
 
-def blocked_interval_edges(blocked: np.ndarray, k: int) -> tuple[int, int] | None:
-    """The first free bin clockwise and counter-clockwise of the blocked run containing bin
-    ``k`` (bins ordered CCW, circular); ``None`` if every bin is blocked."""
-    n = len(blocked)
-    if blocked.all():
-        return None
-    ccw = next(i for i in range(1, n) if not blocked[(k + i) % n])
-    cw = next(i for i in range(1, n) if not blocked[(k - i) % n])
-    return (k - cw) % n, (k + ccw) % n
-
-
 def obstacle_interval_edges(rho: np.ndarray, blocked: np.ndarray, k: int,
                             jump: float) -> tuple[int, int] | None:
     """The first bin clockwise and counter-clockwise past the *obstacle* that blocks bin ``k``
@@ -189,14 +185,15 @@ def obstacle_interval_edges(rho: np.ndarray, blocked: np.ndarray, k: int,
     puts an endpoint (Kamon et al. 1998). A bin whose ``rho`` is not finite (``k`` may be
     forced blocked) joins either neighbour. ``None`` if the run goes all round."""
     n = len(blocked)
+    r, free = rho.tolist(), (~blocked).tolist()  # Python floats: a loop over them costs less
 
     def steps(direction: int) -> int | None:
-        last = rho[k]
+        last = r[k]
         for i in range(1, n):
             b = (k + direction * i) % n
-            if not blocked[b] or (math.isfinite(last) and math.isfinite(rho[b]) and abs(rho[b] - last) > jump):
+            if free[b] or (math.isfinite(last) and math.isfinite(r[b]) and abs(r[b] - last) > jump):
                 return i
-            last = rho[b] if math.isfinite(rho[b]) else last
+            last = r[b] if math.isfinite(r[b]) else last
         return None
 
     ccw, cw = steps(1), steps(-1)
