@@ -217,7 +217,8 @@ def replay_commands(name: str, planner: Planner) -> tuple[np.ndarray, np.ndarray
     main's code at f4bd289, before issue 16's speed-ups; the TangentBug and Bug2 ones again
     whenever issue 12's wall follower changed their commands (s6follow, then the seventh
     session's narrow-passage mode, which changed the TangentBug labyrinth and 40 m clutter
-    ones): ``--record DIR
+    ones), and the four TangentBug ones when the blocking obstacle's interval came to end where
+    the range function jumps (s12tb: the very_complex one no longer ends unreachable): ``--record DIR
     --planners tangent_bug --worlds clutter_40m,concave_trap,labyrinth,very_complex --time-s
     60`` and ``--planners bug2 --worlds very_complex --time-s 40``)."""
     with np.load(REPLAY / f"{name}.npz") as stored:
@@ -244,9 +245,9 @@ def replay_commands(name: str, planner: Planner) -> tuple[np.ndarray, np.ndarray
 def test_replayed_episode_gives_the_recorded_commands(name: str) -> None:
     """The per-cycle polar view, the binned range function, no endpoints while following and
     the buffered echo memory change no command of a recorded episode: TangentBug's cover
-    motion to goal with the goal blocked (169 cycles of the binned range function), boundary
-    following (58 switches to it) and back, and the unreachable ending, with memories of 400-460
-    echoes at the end; Bug2 and DWA share the echo memory."""
+    motion to goal with the goal blocked (185 cycles of the binned range function), boundary
+    following (8 switches to it) and back, with memories of 400-460 echoes at the end; Bug2 and
+    DWA share the echo memory."""
     kind = next(k for k in ("tangent_bug", "bug2", "dwa") if name.startswith(k))
     planner = {"tangent_bug": TangentBug, "bug2": Bug2, "dwa": DWA}[kind]()
     got, want = replay_commands(name, planner)
