@@ -117,7 +117,8 @@ def test_follows_the_wall_that_blocks_the_way_not_the_box_beside_it(
     box beside the robot. The blocked interval of every blocked direction took the box and the
     wall for one obstacle, so the robot followed the box: main reports ``unreachable`` after a
     lap from both starts; with only the strict second lap (tb_s11) the first start cycles
-    between the box and the wall until its time is up and the second still ends unreachable.
+    between the box and the wall until its time is up, and the second laps the box before it
+    leaves (107.0 s, 3 re-plans).
     The blocking obstacle's interval now ends where the range function jumps (to the box):
     the robot follows the wall once, without a lap, and reaches the goal."""
     result = run(TangentBug(), box_and_wall(), start, (6.5, 6.5), time_s=150.0, seed=0)
@@ -131,9 +132,9 @@ def test_follows_the_wall_that_blocks_the_way_not_the_box_beside_it(
 
 def test_a_box_lapped_in_the_passage_before_the_wall_is_lapped_strictly_once_more() -> None:
     """The strict lap (tb_s11) is still what lets the robot off a box it has lapped. Started
-    at the 1 m passage between the box and the wall, the robot stalls in the passage and takes
-    the box beside it for the boundary (the nearest echo; nothing blocked the way ahead but the
-    robot's own stall). ``d_followed`` from every near echo ahead and on the followed side
+    at the mouth of the 1 m passage between the box and the wall, the robot stalls; the blocking
+    point lies in the passage, and the approach takes the box's echo beside the robot (the
+    nearest on the followed side) for the boundary reached, so the follower keeps the box. ``d_followed`` from every near echo ahead and on the followed side
     takes the wall's echoes across the passage, so leaving the box never pays until the lap
     closes; the strict lap (``d_followed`` from the followed boundary only) lets it leave, and
     it reaches the goal. (Main reaches this one in 23.7 s: its interval of every blocked
