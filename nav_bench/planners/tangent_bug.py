@@ -14,8 +14,15 @@ have none). Directions not sensed in the memory window count as free: the planne
 less than TangentBug assumes, which is the point of comparing it on this robot.
 
 * **Motion to goal**: if the goal direction is free, drive to the goal. Otherwise the
-  blocked interval of directions containing the goal has two edges; the endpoint ``O`` of
-  each is the first free direction past the edge, at the distance of the boundary there.
+  obstacle that blocks it spans an interval of directions with two edges: the blocked
+  directions round the goal direction whose ``rho`` does not jump by more than the grown
+  radius (``radius + clearance``) from one direction to the next (a jump is a discontinuity
+  of the range function: another obstacle, nearer or farther, with a gap between).
+  The endpoint ``O`` of each edge is the first direction past it (free, or another
+  obstacle's), at the distance of the boundary at the edge. (An interval of every blocked
+  direction, whatever its ``rho``, took a box 0.6 m beside the robot and a wall 1 m beyond
+  it for one obstacle, so the robot followed the box instead of the wall that blocked the
+  way, lapped it and concluded ``unreachable``: issue 12, very_complex.)
   The robot heads for the endpoint minimising the heuristic distance
   ``h = |x - O| + |O - goal|``. When ``h`` has not improved on its minimum by ``h_epsilon``
   for ``stall_cycles`` cycles in which the robot moved (it *stops decreasing*), boundary following starts in the
@@ -33,7 +40,13 @@ less than TangentBug assumes, which is the point of comparing it on this robot.
   (``d_goal - min(free length, d_goal)`` from the range function, evaluated only when the
   goal direction lies within the sonars' field of view). Leave when ``d_reach < d_followed - leave_margin``.
 * **Unreachable**: back where following began (``loop_radius``) after a lap round the
-  followed boundary (net turn toward the followed side) -> stop and emit ``unreachable``.
+  followed boundary (net turn toward the followed side) -> one more, *strict* lap (a
+  ``replan`` event with ``reason="strict_lap"``): ``d_followed`` becomes the least goal
+  distance of the follower's nearest side echo since following began, and takes only that
+  echo from then on. The rule above also counts echoes of another obstacle across a passage
+  (very_complex: a wall 1 m beyond the box being lapped), which can make leaving never pay
+  (issue 12's false ``unreachable``); it stays in force until a lap closes because mazes are
+  solved by it. A second lap -> stop and emit ``unreachable``.
 
 Each switch to boundary following emits a ``replan`` event.
 
@@ -163,14 +176,29 @@ def binned_range_function(points: np.ndarray | PolarEchoes, xy: np.ndarray, grow
     return np.minimum(np.minimum(rho[:n], rho[n:2 * n]), rho[2 * n:])
 
 
-def blocked_interval_edges(blocked: np.ndarray, k: int) -> tuple[int, int] | None:
-    """The first free bin clockwise and counter-clockwise of the blocked run containing bin
-    ``k`` (bins ordered CCW, circular); ``None`` if every bin is blocked."""
+def obstacle_interval_edges(rho: np.ndarray, blocked: np.ndarray, k: int,
+                            jump: float) -> tuple[int, int] | None:
+    """The first bin clockwise and counter-clockwise past the *obstacle* that blocks bin ``k``
+    (bins ordered CCW, circular): the run of blocked bins round ``k`` whose ``rho`` (m) does
+    not jump by more than ``jump`` m from one bin to the next. A bin is past it when it is
+    free or when its ``rho`` jumps: a discontinuity of the range function, where TangentBug
+    puts an endpoint (Kamon et al. 1998). A bin whose ``rho`` is not finite (``k`` may be
+    forced blocked) joins either neighbour. ``None`` if the run goes all round."""
     n = len(blocked)
-    if blocked.all():
+    r, free = rho.tolist(), (~blocked).tolist()  # Python floats: a loop over them costs less
+
+    def steps(direction: int) -> int | None:
+        last = r[k]
+        for i in range(1, n):
+            b = (k + direction * i) % n
+            if free[b] or (math.isfinite(last) and math.isfinite(r[b]) and abs(r[b] - last) > jump):
+                return i
+            last = r[b] if math.isfinite(r[b]) else last
         return None
-    ccw = next(i for i in range(1, n) if not blocked[(k + i) % n])
-    cw = next(i for i in range(1, n) if not blocked[(k - i) % n])
+
+    ccw, cw = steps(1), steps(-1)
+    if ccw is None or cw is None:
+        return None
     return (k - cw) % n, (k + ccw) % n
 
 
@@ -217,6 +245,8 @@ class TangentBug(Planner):
         self.acquired = False
         self._blocking: np.ndarray | None = None  # where the approach to a boundary heads
         self.d_followed = math.inf
+        self.d_followed_side = math.inf
+        self.strict_lap = False
         self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius)
         self.bins = range_bins(p.directions)
         self._endpoint: list[float] | None = None
@@ -260,7 +290,7 @@ class TangentBug(Planner):
         n = len(self.bins)
         k_goal = int(np.argmin(np.abs(np.remainder(self.bins - theta_g + math.pi, 2 * math.pi) - math.pi)))
         blocked[k_goal] = True
-        edges = blocked_interval_edges(blocked, k_goal)
+        edges = obstacle_interval_edges(rho, blocked, k_goal, obs.robot.radius + self.settings.clearance)
         if edges is None:
             return False, []
         out = []
@@ -283,6 +313,8 @@ class TangentBug(Planner):
         self._blocking = blocking
         self.follower = self.followers[side]
         self.d_followed = math.inf
+        self.d_followed_side = math.inf  # from the follower's nearest side echo only
+        self.strict_lap = False
         self.loop.side = side
         self.loop.arm(xy, float(obs.pose[2]))
         self._follow_starts.append([float(xy[0]), float(xy[1])])
@@ -343,13 +375,19 @@ class TangentBug(Planner):
         rel = self.side * obs.robot.sonar.angles
         near = np.asarray(obs.ranges) < p.wall_distance + 0.6
         side_echo = echo_mask(obs) & near & (rel > math.radians(-20))
-        if side_echo.any():
+        if side_echo.any() and not self.strict_lap:
             hits = obs.sonar_hits()[side_echo]
             self.d_followed = min(self.d_followed, float(np.hypot(*(hits - goal).T).min()))
+        self.d_followed_side = min(self.d_followed_side, self._nearest_side_goal_distance(obs, xy, goal))
+        if self.strict_lap:
+            self.d_followed = self.d_followed_side
         if self.loop.update(xy, float(obs.pose[2])):
-            self.mode = UNREACHABLE
-            self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
-            return STOP
+            if not self.strict_lap:
+                self._start_strict_lap(obs, xy)
+            else:
+                self.mode = UNREACHABLE
+                self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
+                return STOP
         # d_reach = d_goal - free length when the goal direction is in view, else inf (never
         # below d_followed): the free length is only worked out when it can make the robot leave
         if self.acquired and abs(wrap_angle(theta_g - float(obs.pose[2]))) <= self._half_fov:
@@ -361,6 +399,29 @@ class TangentBug(Planner):
         if not self.acquired:  # first approach the boundary that blocks the way
             return self._approach(obs, xy, v) or self.follower.act(obs)
         return self.follower.act(obs)
+
+    def _nearest_side_goal_distance(self, obs: Observation, xy: np.ndarray, goal: np.ndarray) -> float:
+        """Goal distance (m) of the follower's nearest echo on the followed side (the boundary
+        it keeps), ``inf`` if there is none."""
+        assert self.follower is not None
+        boundary = self.follower.nearest(obs)
+        if boundary is None:
+            return math.inf
+        dist, bearing = boundary
+        point = xy + dist * np.array([math.cos(bearing), math.sin(bearing)])
+        return float(np.hypot(*(point - goal)))
+
+    def _start_strict_lap(self, obs: Observation, xy: np.ndarray) -> None:
+        """A lap closed with ``d_followed`` from every near echo ahead and on the followed side:
+        that rule also takes echoes of another obstacle across a passage (very_complex: a wall
+        0.95-1.2 m beyond the box being lapped), so leaving may never have paid although the
+        goal is reachable (issue 12). Lap once more with ``d_followed`` from the follower's
+        nearest side echo only (the followed boundary); a second lap means unreachable. Until
+        a first lap closes the rule is unchanged: mazes are solved by it."""
+        self.strict_lap = True
+        self.d_followed = self.d_followed_side
+        self.loop.arm(xy, float(obs.pose[2]))
+        self.emit("replan", obs.t, reason="strict_lap", side="left" if self.side == LEFT else "right")
 
     def _approach(self, obs: Observation, xy: np.ndarray, v: float) -> Command | None:
         """Head for the blocking obstacle's point (or the nearest remembered echo) until the

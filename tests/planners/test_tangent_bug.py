@@ -21,11 +21,11 @@ from nav_bench.planners.follow import EchoMemory, world_echoes
 from nav_bench.planners.tangent_bug import (
     TangentBug,
     binned_range_function,
-    blocked_interval_edges,
+    obstacle_interval_edges,
     range_bins,
     range_function,
 )
-from nav_bench.testing.harness import default_robot, run, u_world, wall_world
+from nav_bench.testing.harness import BoxWorld, default_robot, run, u_world, wall_world
 
 REPLAY = Path(__file__).resolve().parents[1] / "data" / "planner_replay"
 
@@ -46,8 +46,25 @@ def test_range_function_grows_each_echo_by_the_clearance_radius() -> None:
 def test_blocked_interval_edges_wrap_around() -> None:
     blocked = np.zeros(12, dtype=bool)
     blocked[[10, 11, 0, 1, 2]] = True
-    assert blocked_interval_edges(blocked, 0) == (9, 3)  # first free clockwise, counter-clockwise
-    assert blocked_interval_edges(np.ones(5, dtype=bool), 2) is None
+    rho = np.where(blocked, 1.0, np.inf)
+    # first bin past the interval clockwise, counter-clockwise
+    assert obstacle_interval_edges(rho, blocked, 0, math.inf) == (9, 3)
+    assert obstacle_interval_edges(np.ones(5), np.ones(5, dtype=bool), 2, math.inf) is None
+
+
+def test_the_blocking_obstacle_ends_where_the_range_function_jumps() -> None:
+    """A wall 1.4 m away across the goal direction (bins 3-8) and a box 0.6 m away beside it
+    (bins 9-11, 0): every bin but 1-2 is blocked, but the wall's interval ends where rho jumps
+    to the box's (by more than the grown radius, 0.35 m); a wall seen obliquely (rho growing
+    0.2 m a bin) stays one obstacle. A bin forced blocked with rho inf (the goal's) joins it."""
+    rho = np.array([0.6, np.inf, np.inf, 1.4, 1.4, 1.4, 1.4, 1.4, 1.4, 0.6, 0.6, 0.6])
+    blocked = np.isfinite(rho)
+    assert obstacle_interval_edges(rho, blocked, 5, 0.35) == (2, 9)
+    assert obstacle_interval_edges(rho, blocked, 5, math.inf) == (2, 1)  # every blocked bin: box too
+    oblique = np.array([np.inf, 1.0, 1.2, 1.4, 1.6, 1.8, np.inf, np.inf])
+    assert obstacle_interval_edges(oblique, np.isfinite(oblique), 3, 0.35) == (0, 6)
+    forced = np.array([np.inf, 1.0, np.inf, 1.1, np.inf, np.inf])
+    assert obstacle_interval_edges(forced, np.isfinite(forced) | (np.arange(6) == 2), 2, 0.35) == (0, 4)
 
 
 @pytest.mark.parametrize("seed", [0, 1])
@@ -81,6 +98,54 @@ def test_stops_following_when_the_goal_is_reachable() -> None:
     rel = tail - tail[0]
     lateral = np.abs(rel[:, 0] * direction[1] - rel[:, 1] * direction[0])
     assert lateral.max() < 0.1
+
+
+def box_and_wall() -> BoxWorld:
+    """Issue 12's harness (very_complex): a 12 x 8 m room, a 1 m box and a long wall 1 m beyond
+    it, closed at its left end by the room's wall."""
+    return BoxWorld.room((12.0, 8.0), [(4.0, 3.0, 5.0, 4.0),   # the box beside the start
+                                       (0.0, 5.0, 8.0, 5.2)])  # the wall, 1 m beyond it
+
+
+@pytest.mark.parametrize(("start", "time_s", "length"), [
+    ((3.4, 3.2, 0.3), 23.8, 9.02),             # before the box: round its top, then along the wall
+    ((4.5, 2.4, math.pi / 2), 96.4, 36.09),    # behind the box, facing it
+])
+def test_follows_the_wall_that_blocks_the_way_not_the_box_beside_it(
+        start: tuple[float, float, float], time_s: float, length: float) -> None:
+    """Issue 12 (very_complex): the goal (6.5, 6.5) lies beyond a wall across the way, with a
+    box beside the robot. The blocked interval of every blocked direction took the box and the
+    wall for one obstacle, so the robot followed the box: main reports ``unreachable`` after a
+    lap from both starts; with only the strict second lap (tb_s11) the first start cycles
+    between the box and the wall until its time is up, and the second laps the box before it
+    leaves (107.0 s, 3 re-plans).
+    The blocking obstacle's interval now ends where the range function jumps (to the box):
+    the robot follows the wall once, without a lap, and reaches the goal."""
+    result = run(TangentBug(), box_and_wall(), start, (6.5, 6.5), time_s=150.0, seed=0)
+    reasons = [d.get("reason") for kind, _, d in result.events if kind == "replan"]
+    assert result.kinds("unreachable") == 0
+    assert reasons == ["follow_boundary"]
+    assert result.reached and result.collisions == 0
+    assert result.time == pytest.approx(time_s, abs=0.05)
+    assert result.path_length == pytest.approx(length, abs=0.01)
+
+
+def test_a_box_lapped_in_the_passage_before_the_wall_is_lapped_strictly_once_more() -> None:
+    """The strict lap (tb_s11) is still what lets the robot off a box it has lapped. Started
+    at the mouth of the 1 m passage between the box and the wall, the robot stalls; the blocking
+    point lies in the passage, and the approach takes the box's echo beside the robot (the
+    nearest on the followed side) for the boundary reached, so the follower keeps the box. ``d_followed`` from every near echo ahead and on the followed side
+    takes the wall's echoes across the passage, so leaving the box never pays until the lap
+    closes; the strict lap (``d_followed`` from the followed boundary only) lets it leave, and
+    it reaches the goal. (Main reaches this one in 23.7 s: its interval of every blocked
+    direction sent it round the box's top into the passage and along the wall.)"""
+    result = run(TangentBug(), box_and_wall(), (3.0, 3.8, 0.0), (6.5, 6.5), time_s=150.0, seed=0)
+    reasons = [d.get("reason") for kind, _, d in result.events if kind == "replan"]
+    assert result.kinds("unreachable") == 0
+    assert reasons == ["follow_boundary", "strict_lap", "follow_boundary", "follow_boundary"]
+    assert result.reached and result.collisions == 0
+    assert result.time == pytest.approx(129.5, abs=0.05)
+    assert result.path_length == pytest.approx(46.97, abs=0.01)
 
 
 # ----------------------------------------------------------------------------- issue 16: cost
@@ -153,7 +218,8 @@ def replay_commands(name: str, planner: Planner) -> tuple[np.ndarray, np.ndarray
     main's code at f4bd289, before issue 16's speed-ups; the TangentBug and Bug2 ones again
     whenever issue 12's wall follower changed their commands (s6follow, then the seventh
     session's narrow-passage mode, which changed the TangentBug labyrinth and 40 m clutter
-    ones): ``--record DIR
+    ones), and the four TangentBug ones when the blocking obstacle's interval came to end where
+    the range function jumps (s12tb: the very_complex one no longer ends unreachable): ``--record DIR
     --planners tangent_bug --worlds clutter_40m,concave_trap,labyrinth,very_complex --time-s
     60`` and ``--planners bug2 --worlds very_complex --time-s 40``)."""
     with np.load(REPLAY / f"{name}.npz") as stored:
@@ -180,9 +246,9 @@ def replay_commands(name: str, planner: Planner) -> tuple[np.ndarray, np.ndarray
 def test_replayed_episode_gives_the_recorded_commands(name: str) -> None:
     """The per-cycle polar view, the binned range function, no endpoints while following and
     the buffered echo memory change no command of a recorded episode: TangentBug's cover
-    motion to goal with the goal blocked (169 cycles of the binned range function), boundary
-    following (58 switches to it) and back, and the unreachable ending, with memories of 400-460
-    echoes at the end; Bug2 and DWA share the echo memory."""
+    motion to goal with the goal blocked (185 cycles of the binned range function), boundary
+    following (8 switches to it) and back, with memories of 400-460 echoes at the end; Bug2 and
+    DWA share the echo memory."""
     kind = next(k for k in ("tangent_bug", "bug2", "dwa") if name.startswith(k))
     planner = {"tangent_bug": TangentBug, "bug2": Bug2, "dwa": DWA}[kind]()
     got, want = replay_commands(name, planner)
