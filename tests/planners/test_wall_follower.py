@@ -245,3 +245,22 @@ def test_a_follower_at_a_junction_of_narrow_gaps_stops_its_turn_on_a_way_out() -
     assert away[:50].any()  # out of the junction within 5 s
     turned = np.abs(np.diff(np.unwrap(poses[:, 2]))).sum()
     assert math.degrees(turned) < 1500.0  # it turns 2833 deg
+
+
+# ----------------------------------------------------------------------------- issue 12, twelfth session
+@pytest.mark.xfail(strict=True, reason="issue 12 dead band, open: main's follower stands (v = 0 on the "
+                   "tangent); the fixes gated in results/baselines/follow_s12 did not ship")
+def test_an_echo_ahead_farther_than_the_side_wall_is_driven_toward_not_stood_before() -> None:
+    """The dead band (results/baselines/follow_s12): with the followed wall 0.29 m beside and a
+    wall across the way 0.42 m ahead (heard 0.41 m ahead, farther than the side + ahead_slack),
+    the follower neither turns (the wall ahead is not the nearest boundary) nor drives (it is
+    within ``front``): v = 0 with the heading on the tangent, where the simulated robot stood
+    for a third of office_11's last 30 s. Driving on (at 0.4 m/s: 9cdeae7; at 0.1 m/s:
+    e53db44) passes this test; neither met the gate's ship criterion (contacts; Bug2's total)."""
+    world = BoxWorld.room((6.0, 3.0), [(2.42, 0.0, 2.62, 3.0)])
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    obs = observe(world, np.array([2.0, 0.29, 0.0]), np.array([100.0, 100.0]), default_robot(), 0.0, DT, rays=7)
+    near = follower.nearest(obs)
+    assert near is not None and near[0] == pytest.approx(0.29, abs=0.01)
+    assert near[0] + follower.ahead_slack < follower._ahead(obs, math.inf) < follower.front
+    assert follower.act(obs).v > 0.05  # it creeps or drives on
