@@ -2,31 +2,15 @@
 gap's midpoint, the histogram in the direction of the midpoint (H^p, masked free?).
 PYTHONPATH=$PWD python results/baselines/vfh_s12/gapview.py office_11_TRACE.npz
 """
-import json
 import math
 import sys
 
-import numpy as np
+sys.path.insert(0, "results/baselines/vfh_s12")
+from trace_replay import load
 
-import nav_bench.planners.vfh_plus as vfh
-
-sys.path.insert(0, "results/baselines/vfh_s11")
-from contacts import robot_info
-
-from nav_bench.interface import Observation
-
-path = sys.argv[1]
+replay = load(sys.argv[1])
 gaps = {"SE": (10.33, 4.99), "NE": (10.155, 5.924)}
-tr = np.load(path, allow_pickle=True)
-meta = json.loads(str(tr["meta"]))
-robot = robot_info()
-goal = np.asarray(meta["world"]["goal"], float)
-bounds = (0.0, 0.0, *meta["world"]["size"])
-t, odom, ranges, true = (tr[k] for k in ("t", "odom_pose", "ranges", "true_pose"))
-p = vfh.VFHPlus(**meta["row"]["params"])
-def obs(i):
-    return Observation(float(t[i]), odom[i].astype(float), goal, ranges[i].astype(float), robot, bounds, 0.1)
-p.reset(obs(0), np.random.default_rng(0))
+t, odom, p, obs = replay.t, replay.odom, replay.planner, replay.obs
 stats = {g: [0, 0, 1e9] for g in gaps}
 for i in range(len(t)):
     p.act(obs(i))

@@ -5,37 +5,25 @@ the 0.18 m radius, a route that hugs corners; 0.3 m keeps it 0.3 m off them). Pr
 way-on bearing, whether its sector is free, the chosen direction and the goal bearing.
 PYTHONPATH=$PWD python results/baselines/vfh_s12/wayon_free.py TRACE.npz [INFLATE_M]
 """
-import json
 import math
 import sys
 
 import numpy as np
 
-import nav_bench.planners.vfh_plus as vfh
+sys.path.insert(0, "results/baselines/vfh_s12")
+from trace_replay import load
 
-sys.path.insert(0, "results/baselines/vfh_s11")
-from contacts import robot_info
-
-from nav_bench.interface import Observation
 from nav_bench.world.geometry import static_geometry
 from nav_bench.world.load import world_from_data
 from nav_bench.world.optimal import free_cell_near, grid_path
 from nav_bench.world.raster import rasterize
 
-path = sys.argv[1]
-tr = np.load(path, allow_pickle=True)
-meta = json.loads(str(tr["meta"]))
+replay = load(sys.argv[1])
+meta, t, true, p, obs = replay.meta, replay.t, replay.true, replay.planner, replay.obs
 world = world_from_data(meta["world"])
 inflate = float(sys.argv[2]) if len(sys.argv) > 2 else 0.18  # m: 0.3 keeps the route off the corners
 raster = rasterize(static_geometry(world), 0.05, inflate=inflate)
-robot = robot_info()
 goal = np.asarray(meta["world"]["goal"], float)
-bounds = (0.0, 0.0, *meta["world"]["size"])
-t, odom, ranges, true = (tr[k] for k in ("t", "odom_pose", "ranges", "true_pose"))
-p = vfh.VFHPlus(**meta["row"]["params"])
-def obs(i):
-    return Observation(float(t[i]), odom[i].astype(float), goal, ranges[i].astype(float), robot, bounds, 0.1)
-p.reset(obs(0), np.random.default_rng(0))
 prev = None
 n_rev = n_open = 0
 for i in range(len(t)):
