@@ -164,7 +164,23 @@ def environment() -> dict[str, Any]:
         "python": platform.python_version(),
         "pybullet": _version("pybullet"),
         "numpy": numpy.__version__,
+        "numpy_simd": numpy_simd(),
     }
+
+
+def numpy_simd() -> list[str]:
+    """The SIMD levels NumPy dispatches its kernels to on this machine (e.g. ``['X86_V3',
+    'X86_V4', 'AVX512_ICL']``), after ``NPY_DISABLE_CPU_FEATURES``; [] if NumPy does not say.
+
+    Recorded because rows depend on it: NumPy's AVX-512 kernels of ``exp``, ``arctan2`` and
+    others differ from its AVX2 ones in the last bit, and a wall follower's long episodes
+    amplify that (README, "Reproducing rows")."""
+    try:
+        from numpy._core import _multiarray_umath as umath  # NumPy 2
+    except ImportError:  # NumPy 1.x
+        from numpy.core import _multiarray_umath as umath  # type: ignore[no-redef]
+    features = getattr(umath, "__cpu_features__", {})
+    return [name for name in getattr(umath, "__cpu_dispatch__", ()) if features.get(name)]
 
 
 def _now() -> str:

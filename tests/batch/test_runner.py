@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:  # worker processes import tests.helpers.* by name
     sys.path.insert(0, str(ROOT))
 
-from nav_bench.batch.runner import run_suite  # noqa: E402
+from nav_bench.batch.runner import numpy_simd, run_suite  # noqa: E402
 from nav_bench.batch.store import ResultsStore, ResultsWarning, check_row  # noqa: E402
 from nav_bench.batch.suite import expand, load_suite  # noqa: E402
 from nav_bench.batch.worker import finish_row, run_job  # noqa: E402
@@ -58,6 +58,7 @@ def test_small_suite_real_episodes_valid_rows_reproducible(tmp_path):
     assert meta["executor"]["name"] == "local" and meta["workers"] == 2
     for key in ("python", "pybullet", "numpy", "host", "started", "ended", "nav_bench"):
         assert meta[key], key
+    assert meta["numpy_simd"] == numpy_simd()  # the rows' last bits depend on it (README)
     assert meta["suite"]["planners"]["slow"]["params"]["v_max"] == 0.3
 
     # the same suite again, one worker: identical rows but for wall-clock time
@@ -223,3 +224,20 @@ def test_generated_worlds_are_stored_with_the_results(tmp_path, monkeypatch):
     for row in rows:
         assert Path(row["world_file"]) == out / "worlds" / f"{row['world']}.yaml"
         assert load_world(row["world_file"]).size[0] == 3.0 + int(row["world"][-1])
+
+
+def test_numpy_simd_names_the_levels_numpy_dispatches_to_after_the_environment() -> None:
+    """run.json records NumPy's SIMD levels; ``NPY_DISABLE_CPU_FEATURES`` (what the README gives
+    to reproduce rows recorded on a machine without AVX-512) must show in it."""
+    code = "from nav_bench.batch.runner import numpy_simd; print(' '.join(numpy_simd()))"
+    env = {k: v for k, v in os.environ.items() if k != "NPY_DISABLE_CPU_FEATURES"}
+
+    def levels(extra: dict[str, str]) -> list[str]:
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                             env={**env, **extra}, timeout=120)
+        return out.stdout.split()
+
+    found = levels({})
+    if not found:
+        pytest.skip("NumPy dispatches to no SIMD level above its baseline on this machine")
+    assert levels({"NPY_DISABLE_CPU_FEATURES": found[-1]}) == found[:-1]
