@@ -1,15 +1,30 @@
-import json, collections
-new = [json.loads(l) for l in open('results/baselines/families_s12/grid_planners.jsonl')]
-olds = {'dstar_lite': ('results/baselines/dstar_s6/episodes.jsonl', 'dstar_lite'),
-        'dwa_global': ('results/baselines/dwa_global_s7/families/episodes.jsonl', 'dwa_global_la06_kc06'),
-        'apf': ('results/baselines/apf_dwa_s7/episodes.jsonl', None)}
-for lab, (p, ol) in olds.items():
-    rows = [json.loads(l) for l in open(p)]
-    if ol is None:
-        labs = collections.Counter(r['label'] for r in rows); ol = [l for l in labs if 'apf' in l][0]
-    old = {r['world']: r for r in rows if r['label'] == ol}
-    nw = {r['world']: r for r in new if r['label'] == lab}
-    keys = set(old) & set(nw)
-    eq = sum(all(old[k][f] == nw[k][f] for f in ('outcome', 'time_s', 'path_length_m', 'collisions')) for k in keys)
-    oe = sum(old[k]['outcome'] == nw[k]['outcome'] for k in keys)
-    print(lab, ol, len(keys), 'equal rows', eq, 'equal outcomes', oe, 'reached old', sum(old[k]['outcome']=='reached' for k in keys), 'new', sum(nw[k]['outcome']=='reached' for k in keys))
+"""Compare the twelfth session's D* Lite, dwa_global and APF family rows with the rows the
+families table quotes (outcome, time, path length, contacts), per planner.
+
+    python results/baselines/families_s12/compare_to_earlier.py
+"""
+
+import json
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+EARLIER = {  # planner -> (rows the table quotes, their label)
+    "dstar_lite": (HERE.parent / "dstar_s6/episodes.jsonl", "dstar_lite"),
+    "dwa_global": (HERE.parent / "dwa_global_s7/families/episodes.jsonl", "dwa_global_la06_kc06"),
+    "apf": (HERE.parent / "apf_dwa_s7/episodes.jsonl", "apf"),
+}
+FIELDS = ("outcome", "time_s", "path_length_m", "collisions")
+
+
+def rows(path: Path, label: str) -> dict[str, dict]:
+    """Rows of ``label`` in ``path`` by world."""
+    with path.open() as fh:
+        return {r["world"]: r for r in map(json.loads, fh) if r["label"] == label}
+
+
+for planner, (path, label) in EARLIER.items():
+    old, new = rows(path, label), rows(HERE / "grid_planners.jsonl", planner)
+    worlds = sorted(set(old) & set(new))
+    equal = sum(all(old[w][f] == new[w][f] for f in FIELDS) for w in worlds)
+    reached = sum(new[w]["outcome"] == "reached" for w in worlds)
+    print(f"{planner}: {len(worlds)} layouts, {equal} rows equal, {reached} reached")
