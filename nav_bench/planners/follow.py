@@ -244,6 +244,9 @@ class WallFollower:
         self.k_dist, self.reach = k_dist, reach
         self.memory = EchoMemory(memory_s)
         self._seen_t = -math.inf  # time of the last cycle remembered
+        # nearest()'s answer for the observation it was asked about (TangentBug asks, then its
+        # follower's act() asks again in the same cycle); cleared when the memory changes
+        self._nearest_of: tuple[Observation, tuple[float, float] | None] | None = None
         self._groups_of: SonarInfo | None = None  # the sonar ring of ``_groups``
 
     def _sonar_groups(self, sonar: SonarInfo) -> tuple[np.ndarray, np.ndarray]:
@@ -261,6 +264,7 @@ class WallFollower:
         if obs.t > self._seen_t:
             self.memory.add(obs, self._sonar_groups(obs.robot.sonar)[0])
             self._seen_t = obs.t
+            self._nearest_of = None
 
     def nearest(self, obs: Observation) -> tuple[float, float] | None:
         """(distance m, world bearing rad) of the nearest echo on the followed side within
@@ -268,6 +272,13 @@ class WallFollower:
         of every sonar on that side (a diagonal sonar sees a door jamb's end before the side
         sonar does; its axis placement is off by up to half a cone, too much to remember, but
         right enough now); ``None`` if there is none."""
+        if self._nearest_of is not None and self._nearest_of[0] is obs:
+            return self._nearest_of[1]
+        found = self._nearest(obs)
+        self._nearest_of = (obs, found)
+        return found
+
+    def _nearest(self, obs: Observation) -> tuple[float, float] | None:
         xy = np.asarray(obs.pose[:2], dtype=float)
         now = obs.sonar_hits()[echo_mask(obs) & self._sonar_groups(obs.robot.sonar)[1]]
         pts = np.concatenate([self.memory.points(xy, self.distance + self.reach), now])
