@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import datetime as dt
+import importlib
 import os
 import platform
 import signal
@@ -175,10 +176,14 @@ def numpy_simd() -> list[str]:
     Recorded because rows depend on it: NumPy's AVX-512 kernels of ``exp``, ``arctan2`` and
     others differ from its AVX2 ones in the last bit, and a wall follower's long episodes
     amplify that (README, "Reproducing rows")."""
-    try:
-        from numpy._core import _multiarray_umath as umath  # NumPy 2
-    except ImportError:  # NumPy 1.x
-        from numpy.core import _multiarray_umath as umath  # type: ignore[no-redef]
+    for name in ("numpy._core._multiarray_umath", "numpy.core._multiarray_umath"):  # NumPy 2, 1
+        try:
+            umath = importlib.import_module(name)
+            break
+        except ImportError:
+            continue
+    else:  # a NumPy that keeps them elsewhere: say nothing rather than fail the run
+        return []
     features = getattr(umath, "__cpu_features__", {})
     return [name for name in getattr(umath, "__cpu_dispatch__", ()) if features.get(name)]
 
