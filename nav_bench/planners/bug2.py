@@ -15,7 +15,18 @@ The m-line is the segment from the start (the pose at :meth:`Bug2.reset`) to the
   (no sonar echo of the last ``memory_s`` s in a robot-wide corridor ``leave_clear`` m long),
   it resumes motion to goal.
 * **Unreachable**: if it comes back to H (within ``loop_radius``) after a lap round the
-  followed boundary (net turn toward ``wall_side``), the goal cannot be reached: it stops and emits an ``unreachable`` event.
+  followed boundary (net turn toward ``wall_side``) and that closed lap encloses the goal, the
+  goal cannot be reached: it stops and emits an ``unreachable`` event. This is Lumelsky and
+  Stepanov's test read as its proof reads it: the robot returns to H without a leave point only
+  if the goal is trapped inside the closed curve it followed.
+* **A lap that does not enclose the goal** proves nothing: the boundary it followed was not the
+  one that blocks the m-line at H (a closed curve round that one, with the goal outside,
+  crosses the segment from H to the goal, where the robot would have left). The follower keeps
+  the *nearest* echo on its side, so a hit diagonally on a wall with a pillar beside it laps the
+  pillar (``very_complex`` seeds 1 and 3: results/baselines/bug2_s13/README.md). The robot then
+  emits a ``lap`` event, resumes motion to goal, and at its next hit first turns on the spot
+  away from ``wall_side`` until the corridor ahead is clear (at most 135 deg), so that the
+  obstacle hit is the one on its side when following starts.
 
 Every hit emits a ``replan`` event (the path changes from the m-line to the boundary).
 """
@@ -45,6 +56,21 @@ from nav_bench.planners.follow import (
     obstacle_ahead,
     steer,
 )
+
+# re-acquiring the hit obstacle after a lap round another one: the turn on the spot that brings
+# the obstacle ahead to the followed side ends after this much turning even if the corridor
+# ahead is still not clear (a pocket), and the follower's own turning takes over from there
+TURN_IN_MAX_RAD = 0.75 * math.pi
+TURN_IN_RATE = 1.0  # rad/s (at most the robot's limit)
+
+
+def swept_angle(a: np.ndarray, b: np.ndarray, centre: np.ndarray) -> float:
+    """Angle (rad, counter-clockwise positive, in [-pi, pi]) that the straight move from ``a``
+    to ``b`` (m) sweeps as seen from ``centre`` (m). Summed over a closed path it is 2 pi times
+    the path's winding number round ``centre`` (moves of one control cycle, a few cm, never
+    sweep pi unless they pass through ``centre``)."""
+    (ax, ay), (bx, by), (cx, cy) = a.tolist(), b.tolist(), centre.tolist()
+    return math.remainder(math.atan2(by - cy, bx - cx) - math.atan2(ay - cy, ax - cx), 2 * math.pi)
 
 
 class Bug2(Planner):
@@ -89,6 +115,9 @@ class Bug2(Planner):
         self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius, side=self.side)
         self._prev_xy = self.start.copy()
         self._hits: list[list[float]] = []
+        self._swept = 0.0  # angle (rad) the path since the hit point swept round the goal
+        self._reacquire = False  # a lap left the goal outside: turn the next hit obstacle to the side
+        self._turn_in: float | None = None  # heading (rad) at that hit while turning it to the side
 
     # -- m-line geometry -------------------------------------------------------------------------
     def _mline_offset(self, xy: np.ndarray, goal: np.ndarray) -> float:
@@ -120,20 +149,26 @@ class Bug2(Planner):
         v = min(p.v_max, obs.robot.v_max)
         half_width = corridor_half_width(obs.robot)
         cmd = STOP
+        if self.mode == FOLLOW:  # before a hit in this cycle: the lap's path starts at the hit point
+            self._swept += swept_angle(self._prev_xy, xy, goal)
         if self.mode == GO:
             ahead = obstacle_ahead(obs, p.hit_distance, half_width)
             facing = abs(math.remainder(heading - float(obs.pose[2]), 2 * math.pi)) < math.radians(30)
             if ahead < p.hit_distance and facing and ahead < to_goal:
                 self.mode, self.hit, self.hit_goal_distance = FOLLOW, xy.copy(), to_goal
                 self.loop.arm(xy, float(obs.pose[2]))
+                self._swept = 0.0
+                if self._reacquire:
+                    self._reacquire, self._turn_in = False, float(obs.pose[2])
                 self._hits.append([float(xy[0]), float(xy[1])])
                 self.emit("replan", obs.t, reason="hit", x=float(xy[0]), y=float(xy[1]))
             else:
                 cmd = steer(obs, heading, arrival_speed(to_goal, v))
         if self.mode == FOLLOW:
             if self.loop.update(xy, float(obs.pose[2])):
-                self.mode = UNREACHABLE
-                self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
+                cmd = self._lap_closed(obs, xy, goal, heading, v, to_goal)
+            elif self._turn_in is not None and (turn := self._turn_to_side(obs, half_width)) is not None:
+                cmd = turn
             elif (self._on_mline(xy, goal) and to_goal < self.hit_goal_distance - p.leave_margin
                   and free_along(self.memory.points(xy, p.leave_clear + 1.0), xy, heading,
                                  min(p.leave_clear, to_goal), half_width, body=obs.robot.radius)):
@@ -144,6 +179,34 @@ class Bug2(Planner):
                 cmd = self.follower.act(obs)
         self._prev_xy = xy.copy()
         return cmd
+
+    def _lap_closed(self, obs: Observation, xy: np.ndarray, goal: np.ndarray, heading: float,
+                    v: float, to_goal: float) -> Command:
+        """The robot is back at the hit point after a lap: ``unreachable`` (and stop) if the closed
+        lap encloses the goal, else a ``lap`` event and motion to goal, re-acquiring the obstacle
+        at the next hit (see the module docstring)."""
+        assert self.hit is not None
+        winding = round((self._swept + swept_angle(xy, self.hit, goal)) / (2 * math.pi))
+        if winding != 0:
+            self.mode = UNREACHABLE
+            self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
+            return STOP
+        self.emit("lap", obs.t, x=float(xy[0]), y=float(xy[1]), goal_enclosed=False)
+        self.mode, self._reacquire, self._turn_in = GO, True, None
+        self.loop.disarm()
+        return steer(obs, heading, arrival_speed(to_goal, v))
+
+    def _turn_to_side(self, obs: Observation, half_width: float) -> Command | None:
+        """After re-acquiring, the turn on the spot that brings the hit obstacle from ahead to
+        the followed side; ``None`` (and no more turning) once the corridor ahead is clear or
+        after ``TURN_IN_MAX_RAD``."""
+        assert self._turn_in is not None
+        turned = abs(math.remainder(float(obs.pose[2]) - self._turn_in, 2 * math.pi))
+        if (obstacle_ahead(obs, self.settings.hit_distance, half_width) >= self.settings.hit_distance
+                or turned >= TURN_IN_MAX_RAD):
+            self._turn_in = None
+            return None
+        return Command(0.0, -self.side * min(TURN_IN_RATE, obs.robot.omega_max))
 
     def debug_state(self) -> dict[str, Any]:
         """``mode``, ``hit_points`` [[x, y], ...] and ``m_line`` [[start], [goal]] (m)."""

@@ -1,16 +1,18 @@
-"""Bug2 on the kinematic harness: around a wall, out of a U, and a goal it cannot reach.
+"""Bug2 on the kinematic harness: around a wall, out of a U, a goal it cannot reach, and a
+lap round a pillar beside the wall it hit, which is not a proof of that.
 
-Runtime: ~0.5 s.
+Runtime: ~1 s.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
 import pytest
 
-from nav_bench.planners.bug2 import FOLLOW, GO, UNREACHABLE, Bug2
+from nav_bench.planners.bug2 import FOLLOW, GO, UNREACHABLE, Bug2, swept_angle
 from nav_bench.testing.harness import BoxWorld, default_robot, observe, run, u_world, wall_world
 
 
@@ -57,13 +59,61 @@ def test_a_full_lap_around_an_enclosed_goal_means_unreachable() -> None:
     world = BoxWorld.room((9.0, 6.0), ring)
     result = run(Bug2(), world, (1.0, 2.8, 0.0), (5.8, 2.8), time_s=80.0)
     assert not result.reached and result.collisions == 0
-    assert result.kinds("unreachable") == 1
+    assert result.kinds("unreachable") == 1 and result.kinds("lap") == 0
     planner = result.planner
     assert planner.mode == UNREACHABLE
     (_, t_stop, where), = [e for e in result.events if e[0] == "unreachable"]
     assert math.dist((where["x"], where["y"]), planner.hit) < 0.4  # back at the hit point
     stopped = result.commands[round(t_stop / 0.1) + 1:]
     assert len(stopped) > 0 and np.all(stopped == 0.0)
+
+
+def pillar_beside_a_wall() -> tuple[BoxWorld, tuple[float, float, float], tuple[float, float]]:
+    """very_complex's trap in a 6 x 6.5 m room: the m-line (start (1, 1), goal (4.5, 4.5)) meets
+    a wall (y = 3.425..3.575, x = 2.4..6, joined to the right-hand wall) diagonally, with a
+    0.6 m square pillar whose centre is 1 m right of the hit point; the goal is above the wall,
+    reached round its left end."""
+    world = BoxWorld.room((6.0, 6.5), [(2.4, 3.425, 6.0, 3.575), (3.3, 1.9, 3.9, 2.5)])
+    return world, (1.0, 1.0, math.pi / 4), (4.5, 4.5)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_lap_round_a_pillar_beside_the_hit_wall_is_not_unreachable(seed: int) -> None:
+    """Issue 12 (very_complex seeds 1 and 3 on main, 369d2f7): the follower keeps the nearest
+    echo on its side, which at the hit is the pillar's; the robot laps the pillar and is back
+    at the hit point. That lap leaves the goal outside, so it proves nothing: the robot goes on,
+    follows the wall it hit this time, and reaches the goal (main stopped at 19.8-19.9 s with
+    "unreachable": results/baselines/bug2_s13/README.md)."""
+    world, start, goal = pillar_beside_a_wall()
+    result = run(Bug2(), world, start, goal, time_s=60.0, seed=seed, noise_std=0.01)
+    assert result.kinds("unreachable") == 0
+    (_, t_lap, where), = [e for e in result.events if e[0] == "lap"]  # the lap round the pillar
+    assert 15.0 < t_lap < 25.0 and where["goal_enclosed"] is False
+    hits = [e for e in result.events if e[0] == "replan"]
+    assert len(hits) == 2  # the hit on the wall, and the same wall hit again after the lap
+    assert math.dist((hits[1][2]["x"], hits[1][2]["y"]), (hits[0][2]["x"], hits[0][2]["y"])) < 0.5
+    xy = result.poses[:, :2]
+    lap = xy[: round(t_lap / 0.1)]
+    assert lap[:, 0].max() > 3.9 + 0.3 and lap[:, 1].min() < 1.9 - 0.2  # it went round the pillar
+    after = xy[round(t_lap / 0.1):]
+    assert after[:, 0].min() < 2.4 - 0.3  # then round the wall's left end
+    assert result.reached and result.collisions == 0
+
+
+def test_the_lap_test_counts_the_turns_round_the_goal() -> None:
+    """``swept_angle`` summed over a closed path: 2 pi per turn round the goal, 0 when the
+    goal is outside (the square below, travelled clockwise as a right-hand follower laps)."""
+    square = np.array([(0.0, 0.0), (0.0, 1.0), (1.0, 1.0), (1.0, 0.0), (0.0, 0.0)])
+    steps = np.linspace(0.0, 1.0, 11)[1:]
+    path = [square[0]] + [a + f * (b - a) for a, b in itertools.pairwise(square) for f in steps]
+
+    def turns(goal: tuple[float, float]) -> float:
+        g = np.asarray(goal)
+        return sum(swept_angle(a, b, g) for a, b in itertools.pairwise(path)) / (2 * math.pi)
+
+    assert turns((0.5, 0.5)) == pytest.approx(-1.0)
+    assert turns((1.5, 0.5)) == pytest.approx(0.0, abs=1e-12)
+    assert turns((0.5, 3.0)) == pytest.approx(0.0, abs=1e-12)
 
 
 def test_mode_switches_at_the_hit_distance() -> None:
