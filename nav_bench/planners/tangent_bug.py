@@ -202,6 +202,71 @@ def obstacle_interval_edges(rho: np.ndarray, blocked: np.ndarray, k: int,
     return (k - cw) % n, (k + ccw) % n
 
 
+class OtherBoundaryLap:
+    """Has the robot lapped a boundary other than the one it began following?
+
+    The sonar wall follower keeps the nearest echo on its side, so where two obstacles stand
+    closer than it keeps its distance it can pass from one boundary to the other and lap the
+    second (congested, seed 0: it began on a long box, came down into the 0.6 m gap beside a
+    smaller box and went round that one for 300 s). :class:`LoopDetector`, armed where following
+    began, never fires there, and ``d_followed``, the least goal distance of the first boundary,
+    is one the second never offers, so leaving never pays either. TangentBug's rules hold for
+    the boundary being followed (Kamon et al. 1998), so this lap means: following of that
+    boundary begins here.
+
+    The run's positions are sampled every ``spacing`` m of travel with the travel and net turn
+    (rad, CCW +) so far. It fires when the robot is back within ``radius`` of a sample that
+    lies more than ``2 radius`` from where following began (there :class:`LoopDetector`
+    decides), having been farther than ``2 radius`` from it since, travelled at least
+    ``min_length`` and turned at least ``min_turn`` toward ``side`` since (the lap round an
+    obstacle kept on that side: :class:`LoopDetector`'s rule).
+    """
+
+    def __init__(self, radius: float, min_length: float, min_turn: float = 1.5 * math.pi,
+                 spacing: float = 0.05) -> None:
+        self.radius, self.min_length, self.min_turn, self.spacing = radius, min_length, min_turn, spacing
+        self.side = RIGHT
+        self.origin = np.zeros(2)
+        self._xy = np.zeros((0, 2))  # (N, 2) samples, m
+        self._travel_at = np.zeros(0)  # (N,) travel when sampled, m
+        self._turn_at = np.zeros(0)  # (N,) net turn when sampled, rad
+        self._left = np.zeros(0, dtype=bool)  # (N,) been farther than 2 radius from it since?
+        self._travel = self._turn = 0.0
+        self._last_xy = np.zeros(2)
+        self._last_yaw = 0.0
+
+    def arm(self, xy: np.ndarray, yaw: float, side: int) -> None:
+        """Start a run at ``xy`` (m), heading ``yaw`` (rad), boundary kept on ``side``."""
+        self.side = side
+        self.origin = np.asarray(xy, dtype=float).copy()
+        self._xy, self._travel_at, self._turn_at = np.zeros((0, 2)), np.zeros(0), np.zeros(0)
+        self._left = np.zeros(0, dtype=bool)
+        self._travel = self._turn = 0.0
+        self._last_xy, self._last_yaw = self.origin.copy(), float(yaw)
+
+    def update(self, xy: np.ndarray, yaw: float) -> bool:
+        """Feed the current position (m) and heading (rad); True on a lap of another boundary."""
+        xy = np.asarray(xy, dtype=float)
+        self._travel += math.hypot(xy[0] - self._last_xy[0], xy[1] - self._last_xy[1])
+        self._turn += wrap_angle(float(yaw) - self._last_yaw)
+        self._last_xy, self._last_yaw = xy.copy(), float(yaw)
+        fired = False
+        if len(self._xy):
+            d = np.hypot(self._xy[:, 0] - xy[0], self._xy[:, 1] - xy[1])
+            self._left |= d > 2 * self.radius
+            fired = bool(np.any(self._left & (d < self.radius)
+                                & (self._travel - self._travel_at >= self.min_length)
+                                & (self.side * (self._turn - self._turn_at) >= self.min_turn)))
+        last_travel = self._travel_at[-1] if len(self._travel_at) else -math.inf
+        if (self._travel - last_travel >= self.spacing
+                and math.hypot(xy[0] - self.origin[0], xy[1] - self.origin[1]) > 2 * self.radius):
+            self._xy = np.vstack([self._xy, xy])
+            self._travel_at = np.append(self._travel_at, self._travel)
+            self._turn_at = np.append(self._turn_at, self._turn)
+            self._left = np.append(self._left, False)
+        return fired
+
+
 class TangentBug(Planner):
     """TangentBug (Kamon, Rivlin & Rimon 1998) on a sonar ring with a short echo memory."""
 
@@ -248,6 +313,7 @@ class TangentBug(Planner):
         self.d_followed_side = math.inf
         self.strict_lap = False
         self.loop = LoopDetector(p.loop_radius, min_length=4 * p.loop_radius)
+        self.other_lap = OtherBoundaryLap(p.loop_radius, min_length=4 * p.loop_radius)
         self.bins = range_bins(p.directions)
         self._endpoint: list[float] | None = None
         self._prev_xy = np.asarray(obs.pose[:2], dtype=float).copy()
@@ -317,6 +383,7 @@ class TangentBug(Planner):
         self.strict_lap = False
         self.loop.side = side
         self.loop.arm(xy, float(obs.pose[2]))
+        self.other_lap.arm(xy, float(obs.pose[2]), side)
         self._follow_starts.append([float(xy[0]), float(xy[1])])
         self.emit("replan", obs.t, reason="follow_boundary", side="left" if side == LEFT else "right")
 
@@ -371,6 +438,8 @@ class TangentBug(Planner):
                 theta_g: float, v: float) -> Command:
         p = self.settings
         assert self.follower is not None
+        if self.other_lap.update(xy, float(obs.pose[2])):
+            self._restart_following(obs, xy)
         # near echoes ahead and on the followed side belong to the followed obstacle
         rel = self.side * obs.robot.sonar.angles
         near = np.asarray(obs.ranges) < p.wall_distance + 0.6
@@ -400,6 +469,17 @@ class TangentBug(Planner):
             return self._approach(obs, xy, v) or self.follower.act(obs)
         return self.follower.act(obs)
 
+    def _restart_following(self, obs: Observation, xy: np.ndarray) -> None:
+        """The follower lapped a boundary other than the one following began on
+        (:class:`OtherBoundaryLap`): following of this boundary begins here, on the same side,
+        with its own ``d_followed`` and laps (a ``replan`` event with ``reason="other_boundary"``)."""
+        self.d_followed = self.d_followed_side = math.inf
+        self.strict_lap = False
+        self.loop.arm(xy, float(obs.pose[2]))
+        self.other_lap.arm(xy, float(obs.pose[2]), self.side)
+        self._follow_starts.append([float(xy[0]), float(xy[1])])
+        self.emit("replan", obs.t, reason="other_boundary", side="left" if self.side == LEFT else "right")
+
     def _nearest_side_goal_distance(self, obs: Observation, xy: np.ndarray, goal: np.ndarray) -> float:
         """Goal distance (m) of the follower's nearest echo on the followed side (the boundary
         it keeps), ``inf`` if there is none."""
@@ -421,6 +501,7 @@ class TangentBug(Planner):
         self.strict_lap = True
         self.d_followed = self.d_followed_side
         self.loop.arm(xy, float(obs.pose[2]))
+        self.other_lap.arm(xy, float(obs.pose[2]), self.side)  # the lap just closed is this boundary's
         self.emit("replan", obs.t, reason="strict_lap", side="left" if self.side == LEFT else "right")
 
     def _approach(self, obs: Observation, xy: np.ndarray, v: float) -> Command | None:

@@ -17,8 +17,9 @@ from nav_bench.interface import Observation, RobotInfo, SonarInfo
 from nav_bench.planners.base import Planner
 from nav_bench.planners.bug2 import Bug2
 from nav_bench.planners.dwa import DWA
-from nav_bench.planners.follow import EchoMemory, world_echoes
+from nav_bench.planners.follow import LEFT, RIGHT, EchoMemory, world_echoes
 from nav_bench.planners.tangent_bug import (
+    OtherBoundaryLap,
     TangentBug,
     binned_range_function,
     obstacle_interval_edges,
@@ -146,6 +147,86 @@ def test_a_box_lapped_in_the_passage_before_the_wall_is_lapped_strictly_once_mor
     assert result.reached and result.collisions == 0
     assert result.time == pytest.approx(129.5, abs=0.05)
     assert result.path_length == pytest.approx(46.97, abs=0.01)
+
+
+def circle(centre: tuple[float, float], radius: float, start: float, turn: float,
+           n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(n, 2) positions and (n,) headings round a circle from angle ``start`` by ``turn`` rad
+    (> 0 CCW), heading along the tangent."""
+    s = start + np.linspace(0.0, turn, n)
+    xy = np.asarray(centre) + radius * np.stack([np.cos(s), np.sin(s)], axis=1)
+    return xy, s + math.copysign(math.pi / 2, turn)
+
+
+def first_fire(lap: OtherBoundaryLap, xy: np.ndarray, yaw: np.ndarray) -> int | None:
+    for i in range(len(xy)):
+        if lap.update(xy[i], yaw[i]):
+            return i
+    return None
+
+
+def test_a_lap_round_another_boundary_fires_where_the_loop_closes() -> None:
+    """Following began at (0, 0) with the boundary on the right; the robot drives 2 m east,
+    then goes clockwise round a box centred 1 m south of (2, 0) (the boundary on its right):
+    back within 0.4 m of (2, 0) after turning 2 pi, it has lapped another boundary."""
+    lap = OtherBoundaryLap(radius=0.4, min_length=1.6)
+    lap.arm(np.zeros(2), 0.0, RIGHT)
+    lead = np.stack([np.linspace(0.0, 2.0, 41), np.zeros(41)], axis=1)
+    ring, ring_yaw = circle((2.0, -1.0), 1.0, math.pi / 2, -2.2 * math.pi, 441)
+    xy, yaw = np.concatenate([lead, ring]), np.concatenate([np.zeros(41), ring_yaw])
+    fired = first_fire(lap, xy, yaw)
+    assert fired is not None
+    # the lead's samples (every 0.05 m, those beyond 0.8 m of the origin) lie on y = 0, and the
+    # ring point a rad short of its top is 1 - cos(a) below that line: within 0.4 m of a sample
+    # once cos(a) > 0.6 (to half a sample spacing), after 2 pi - acos(0.6) of turn
+    turned = (fired - 41) / 440 * 2.2 * math.pi
+    assert turned == pytest.approx(2 * math.pi - math.acos(0.6), abs=0.04)
+
+
+def test_a_lap_back_to_where_following_began_is_left_to_the_loop_detector() -> None:
+    lap = OtherBoundaryLap(radius=0.4, min_length=1.6)
+    xy, yaw = circle((0.0, -1.0), 1.0, math.pi / 2, -2.5 * math.pi, 501)
+    lap.arm(xy[0], yaw[0], RIGHT)
+    # every sample within 0.8 m of the origin is skipped: the first samples the ring comes
+    # back to lie beyond them, reached only after 2 pi + 2 asin(0.4) - 2 asin(0.2) of turn
+    fired = first_fire(lap, xy[1:], yaw[1:])
+    assert fired is not None
+    assert (fired + 1) / 500 * 2.5 * math.pi > 2 * math.pi + 0.4
+
+
+@pytest.mark.parametrize("side", [LEFT, RIGHT])
+def test_no_lap_of_another_boundary_without_a_net_turn_toward_the_followed_side(side: int) -> None:
+    """Clockwise round a circle is a lap round an obstacle kept on the right (RIGHT), and round
+    free space for a follower keeping its boundary on the left; going out and back is neither."""
+    lap = OtherBoundaryLap(radius=0.4, min_length=1.6)
+    lap.arm(np.zeros(2), 0.0, side)
+    lead = np.stack([np.linspace(0.0, 2.0, 41), np.zeros(41)], axis=1)
+    ring, ring_yaw = circle((2.0, -1.0), 1.0, math.pi / 2, -2.2 * math.pi, 441)
+    fired = first_fire(lap, np.concatenate([lead, ring]), np.concatenate([np.zeros(41), ring_yaw]))
+    assert (fired is not None) == (side == RIGHT)
+    lap.arm(np.zeros(2), 0.0, side)
+    out = np.stack([np.linspace(0.0, 3.0, 61), np.zeros(61)], axis=1)
+    back = out[::-1]
+    assert first_fire(lap, np.concatenate([out, back]),
+                      np.concatenate([np.zeros(61), np.full(61, math.pi)])) is None
+
+
+@pytest.mark.slow
+def test_leaves_the_box_it_drifted_onto_in_the_congested_world() -> None:
+    """Issue 12 (``congested``, seed 0): the follower began on a long box, came down into the
+    0.6 m gap beside a smaller box and lapped that one with ``d_followed`` left over from the
+    long box (6.4 m: the small box never offers it), so it never left and timed out at 300 s
+    (main, 2 re-plans). A lap of another boundary now restarts following there, and the robot
+    leaves that box and reaches the goal."""
+    from nav_bench.episode.loop import run_episode
+    from nav_bench.specs import PlannerSetSpec
+    from nav_bench.world.load import load_world
+
+    world = load_world(Path(__file__).resolve().parents[2] / "worlds" / "paper" / "congested.yaml")
+    result = run_episode(world, PlannerSetSpec(planner="tangent_bug"), seed=0)
+    assert result.row.outcome == "reached", result.row
+    assert result.row.collisions == 0
+    assert result.row.time_s < 150.0
 
 
 # ----------------------------------------------------------------------------- issue 16: cost
