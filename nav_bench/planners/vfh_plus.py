@@ -77,6 +77,7 @@ histogram, hence every command, is the same bit for bit as testing every sector 
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import itertools
 import math
@@ -89,6 +90,7 @@ from nav_bench.interface import Command, GridState, Observation, StuckReason, wr
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
+from nav_bench.planners.carving import SeeThroughCarving
 from nav_bench.planners.follow import STOP, arrival_speed, limit
 
 
@@ -118,13 +120,17 @@ def certainty_from_occupancy(values: np.ndarray, c_max: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class ActiveWindow:
-    """The cells of the active window with certainty > 0 as the robot sees them.
+    """The cells of the active window with certainty > 0 as the robot sees them (or, after
+    :meth:`carved`, the points that stand for them).
 
     Attributes:
         x, y: (M,) cell centres, m.
         certainty: (M,) certainty, 0..``c_max``.
         dx, dy: (M,) centre less the robot's position, m.
         dist: (M,) distance from the robot, m.
+        rows, cols: (M,) the cells' grid indices (:func:`read_window`), or None.
+        weight: (M,) each point's share of its cell's magnitude (1 for a whole cell,
+            ``1 / CARVE_SUB ** 2`` for a part), or None: all 1.
     """
 
     x: np.ndarray
@@ -133,6 +139,9 @@ class ActiveWindow:
     dx: np.ndarray
     dy: np.ndarray
     dist: np.ndarray
+    rows: np.ndarray | None = None
+    cols: np.ndarray | None = None
+    weight: np.ndarray | None = None
 
     @classmethod
     def of_cells(cls, cells_xy: np.ndarray, certainty: np.ndarray, xy: np.ndarray) -> ActiveWindow:
@@ -149,6 +158,26 @@ class ActiveWindow:
         """(M,) world angle of each cell from the robot, rad."""
         return np.arctan2(self.dy, self.dx)
 
+    def carved(self, kept: np.ndarray, parts: np.ndarray, xy: np.ndarray) -> ActiveWindow:
+        """The window with each cell some of whose parts were seen through replaced by its
+        kept parts (``kept`` (M, P) bool, ``parts`` (M, P, 2) their centres, m: a
+        :class:`~nav_bench.planners.carving.CarvedCells` of this window's cells), each part a
+        point with its cell's certainty and ``1 / P`` of its cell's magnitude, in the cell's
+        place in window order. A cell with every part kept stays its centre, as in the paper,
+        so that with nothing seen through the window is this one (seen from ``xy`` (2,), m)."""
+        whole = kept.all(axis=1)
+        if whole.all():
+            return self
+        cell_i, part_i = np.nonzero(kept & ~whole[:, None])  # cell by cell
+        cells = np.flatnonzero(whole)
+        order = np.argsort(np.concatenate([cells, cell_i]), kind="stable")
+        x = np.concatenate([self.x.take(cells), parts[cell_i, part_i, 0]])[order]
+        y = np.concatenate([self.y.take(cells), parts[cell_i, part_i, 1]])[order]
+        certainty = np.concatenate([self.certainty.take(cells), self.certainty.take(cell_i)])[order]
+        weight = np.concatenate([np.ones(len(cells)), np.full(len(cell_i), 1.0 / kept.shape[1])])[order]
+        dx, dy = x - xy[0], y - xy[1]
+        return ActiveWindow(x, y, certainty, dx, dy, np.hypot(dx, dy), weight=weight)
+
 
 @functools.lru_cache(maxsize=4)
 def centre_coordinates(frame: GridFrame) -> tuple[np.ndarray, np.ndarray]:
@@ -160,20 +189,27 @@ def centre_coordinates(frame: GridFrame) -> tuple[np.ndarray, np.ndarray]:
     return xs, ys
 
 
+def window_box(frame: GridFrame, xy: np.ndarray, radius: float) -> tuple[int, int, int, int]:
+    """(row0, row1, col0, col1): the grid's square holding the disc of ``radius`` m round
+    ``xy`` (the robot's cell +- ``ceil(radius / cell) + 1``), clipped to the grid (may be
+    empty: row1 <= row0 or col1 <= col0)."""
+    h, w = frame.shape
+    r0, c0 = frame.cell_of(float(xy[0]), float(xy[1]))
+    n = math.ceil(radius / frame.cell) + 1
+    return max(r0 - n, 0), min(r0 + n + 1, h), max(c0 - n, 0), min(c0 + n + 1, w)
+
+
 def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
                 c_max: float) -> ActiveWindow:
     """The cells with certainty > 0 within ``radius`` m of ``xy``, in row-major order: the
     active window of the occupancy ``values`` (H, W) 0..100 laid out by ``frame``. Reads only
-    the window's square of the live map, and converts only its cells above 50 (certainty > 0)."""
-    cell = frame.cell
-    h, w = frame.shape
+    the window's square of the live map (:func:`window_box`), and converts only its cells
+    above 50 (certainty > 0)."""
     x, y = float(xy[0]), float(xy[1])
-    r0, c0 = frame.cell_of(x, y)
-    n = math.ceil(radius / cell) + 1
-    rs, re = max(r0 - n, 0), min(r0 + n + 1, h)
-    cs, ce = max(c0 - n, 0), min(c0 + n + 1, w)
+    rs, re, cs, ce = window_box(frame, xy, radius)
     if rs >= re or cs >= ce:
-        return ActiveWindow.of_cells(np.zeros((0, 2)), np.zeros(0), xy)
+        none = np.zeros(0, dtype=np.intp)
+        return dataclasses.replace(ActiveWindow.of_cells(np.zeros((0, 2)), np.zeros(0), xy), rows=none, cols=none)
     square = values[rs:re, cs:ce]
     above = square > UNKNOWN
     rr, cc = np.divmod(above.ravel().nonzero()[0], ce - cs)  # row-major, as np.nonzero
@@ -184,10 +220,11 @@ def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: fl
     cx, cy = xs[cs:ce].take(cc), ys[rs:re].take(rr)
     dx, dy = cx - x, cy - y
     dist = np.hypot(dx, dy)
+    rows, cols = rr + rs, cc + cs
     if dist.max(initial=0.0) > radius:  # the square's corners: keep the disc
         near = (dist <= radius).nonzero()[0]
-        cx, cy, cert, dx, dy, dist = (a.take(near) for a in (cx, cy, cert, dx, dy, dist))
-    return ActiveWindow(cx, cy, cert, dx, dy, dist)
+        cx, cy, cert, dx, dy, dist, rows, cols = (a.take(near) for a in (cx, cy, cert, dx, dy, dist, rows, cols))
+    return ActiveWindow(cx, cy, cert, dx, dy, dist, rows, cols)
 
 
 def active_cells(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
@@ -240,6 +277,8 @@ def window_histogram(window: ActiveWindow, bearings: np.ndarray, n_sectors: int,
         return np.zeros(n_sectors)
     dist = np.maximum(window.dist, 1e-6)
     mag = window.certainty ** 2 * (1.0 + b * (d_max ** 2 - dist ** 2))
+    if window.weight is not None:  # parts of cells: their share of the cell's magnitude
+        mag *= window.weight
     gamma = np.arcsin(np.minimum(1.0, r_rs / dist))
     sector, cell = covered_sectors(bearings, gamma, n_sectors)
     # (n, M): each cell's magnitude in the sectors it covers (each pair once), 0 elsewhere;
@@ -434,6 +473,8 @@ class VFHPlus(Planner):
               minimum=0.0),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the chosen direction is farther off",
               minimum=0.0, maximum=180.0),
+        Param("carve_seen_through", True, "-", "build the histogram from the parts of the grid's cells the "
+              "sonars have not seen through from two views (nav_bench.planners.carving); false: whole cells"),
     )
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
@@ -441,6 +482,7 @@ class VFHPlus(Planner):
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
         self.frame = GridFrame.from_bounds(self.grid.bounds, self.grid.cell)
+        self.carving = SeeThroughCarving(self.frame, obs.pose)
         self.n = max(4, round(360.0 / p.sector_deg))
         self.alpha = 2 * math.pi / self.n
         self.binary = np.zeros(self.n, dtype=bool)
@@ -463,8 +505,9 @@ class VFHPlus(Planner):
         d_goal = float(np.hypot(*(goal - xy)))
         r_rs = robot.radius + p.safety_distance
         # obstacles beyond the goal cannot block the way to it: the window shrinks to the goal
-        window = read_window(self.grid.values(copy=False), self.frame, xy, min(p.window_radius, d_goal),
-                             p.c_max)
+        radius = min(p.window_radius, d_goal)
+        window = (self._carved_window(obs, xy, radius) if p.carve_seen_through else
+                  read_window(self.grid.values(copy=False), self.frame, xy, radius, p.c_max))
         bearings = window.bearings()
         self.primary = window_histogram(window, bearings, self.n, r_rs, p.window_radius, p.distance_weight)
         self.binary = binary_histogram(self.primary, self.binary, p.threshold_low, p.threshold_high)
@@ -503,6 +546,17 @@ class VFHPlus(Planner):
         cmd = limit(v, omega, robot)
         self.v_prev = cmd.v
         return cmd if math.isfinite(cmd.v) else STOP
+
+    def _carved_window(self, obs: Observation, xy: np.ndarray, radius: float) -> ActiveWindow:
+        """The active window (``radius`` m round ``xy``) with the parts of its cells the
+        sonars have seen through carved away (:meth:`ActiveWindow.carved`)."""
+        values = self.grid.values(copy=False)
+        window = read_window(values, self.frame, xy, radius, self.settings.c_max)
+        a0, a1, b0, b1 = window_box(self.frame, xy, radius)
+        a1, b1 = max(a1, a0), max(b1, b0)  # an empty box when the robot is far outside the grid
+        carved = self.carving.update(obs, window.rows, window.cols, (a0, a1, b0, b1),
+                                     values[a0:a1, b0:b1] > UNKNOWN)
+        return window.carved(carved.kept, carved.parts, xy)
 
     def stuck_reason(self) -> StuckReason | None:
         """NO_PATH while no valley is open (every sector blocked: the robot turns on the spot
