@@ -28,6 +28,24 @@ just behind the goal would otherwise close the goal's sector for good):
 5. **Cost** ``mu1 D(c, goal) + mu2 D(c, heading) + mu3 D(c, previous choice)`` (D: angular
    difference in sectors); the cheapest candidate is the new direction.
 
+**Cells seen through** (issue 12, ``results/baselines/vfh_s13/``): the shared grid blames a
+sonar's whole echo arc and frees a cell only after many readings, so it stands up to a cell
+proud of each obstacle; a 0.5-0.58 m gap between furniture, which the body (0.36 m) and the
+enlarged robot (``2 r_rs`` = 0.46 m) fit through, closes in the histogram (the twelfth
+session's six "implementation" timeouts, ``results/baselines/vfh_s12/``). The readings tell
+which parts of those cells are free: a cone sonar's range says everything nearer inside its
+cone is. So the window's cells are read through
+:class:`~nav_bench.planners.carving.SeeThroughCarving`, the carving D* Lite's follower
+measures its clearance against: each cell is ``CARVE_SUB`` x ``CARVE_SUB`` parts, and a part
+seen through from two different views (or under the body) in the last few seconds is dropped.
+A cell with a part dropped enters step 1 as its kept parts, each a point with the cell's
+certainty and ``1 / CARVE_SUB^2`` of the cell's magnitude (its share of the cell's area),
+enlarged by the same ``r_rs``; a cell with every part kept is its centre, as in the paper
+(Ulrich & Borenstein treat a certainty cell as a point at its centre and enlarge it by
+``r_rs``; the enlargement is unchanged, only where the evidence of an obstacle lies is finer).
+The grid itself is unchanged (EO/PC read it with the paper's semantics).
+``carve_seen_through: false`` gives whole cells.
+
 **The window's size** (issue 12, ``results/baselines/vfh_s8/`` and ``vfh_s11/``): 1.2 m with
 ``b`` = 7.11, so ``a = 1 + b 1.2^2`` = 11.24 is the near weight the earlier 1.6 m window with
 ``b = 4`` had. The shared grid marks a wall certain along its whole length, so a wall across a
@@ -61,7 +79,8 @@ What VFH+ cannot do, by its method: it has no memory and no look-ahead (VFH*, Ul
 Borenstein 2000, adds it), so a U trap, a comb's closed pocket or a maze's dead end holds
 it in a back-and-forth the episode ends as ``stuck`` (oscillating); and a gap narrower than
 ``2 (radius + safety_distance)`` in the map (sonar arcs narrow a gap by a cell a side) is
-never a valley. A reactive method: no ``replan`` events.
+never a valley unless the sonars see through the parts that narrow it (above). A reactive
+method: no ``replan`` events.
 
 Speed (issue 16; ``benchmarks/bench_vfh.py``, ``benchmarks/bench_planning.py``): a cycle reads
 only the window's square of the live map and only its cells above 50 (:func:`read_window`),
