@@ -442,10 +442,10 @@ GAP_WORLD = BoxWorld.room((4.0, 3.0), [(2.0, 0.5, 2.3, 1.225), (2.0, 1.775, 2.3,
 GAP_ROBOT = default_robot(radius=0.18)  # the body 0.36 m, the enlarged robot 2 r_rs = 0.46 m
 
 
-def read_gap(planner: VFHPlus, yaws: list[float], t0: float = 0.0) -> None:
-    """Let ``planner`` read the gap world from (1.2, 1.5), 0.8 m before the gap, at each heading."""
+def read_gap(planner: VFHPlus, yaws: list[float], t0: float = 0.0, x: float = 1.2) -> None:
+    """Let ``planner`` read the gap world from (``x``, 1.5), 0.8 m before the gap, at each heading."""
     for i, yaw in enumerate(yaws):
-        planner.act(observe(GAP_WORLD, np.array([1.2, 1.5, yaw]), np.array([3.5, 1.5]), GAP_ROBOT,
+        planner.act(observe(GAP_WORLD, np.array([x, 1.5, yaw]), np.array([3.5, 1.5]), GAP_ROBOT,
                             t0 + 0.1 * i, 0.1))
 
 
@@ -484,15 +484,19 @@ def test_cells_seen_through_from_two_views_no_longer_close_a_055_m_gap(carve: bo
 
 
 def test_a_part_seen_through_from_one_view_only_is_kept() -> None:
-    """The same cone reading through the gap twice from one pose carves nothing: a box corner
-    can poke between a cone's rays, and a ray grazing past it reads long, but not from two views."""
+    """Readings from one pose (turned 17 deg, a front cone through the gap) see through parts
+    but carve nothing: a box corner can poke between a cone's rays, and a ray grazing past it
+    reads long, but not from two views. A reading from a second view (4 cm on) carves them."""
     planner = VFHPlus()
     xy = np.array([1.2, 1.5])
-    planner.reset(observe(GAP_WORLD, np.array([1.2, 1.5, 0.0]), np.array([3.5, 1.5]), GAP_ROBOT, 0.0, 0.1),
+    planner.reset(observe(GAP_WORLD, np.array([1.2, 1.5, 0.3]), np.array([3.5, 1.5]), GAP_ROBOT, 0.0, 0.1),
                   np.random.default_rng(0))
-    read_gap(planner, [0.0] * 6 + [0.3, 0.3, 0.3])
+    read_gap(planner, [0.3] * 6)
+    assert np.isfinite(planner.carving.seen_t).any() and not np.isfinite(planner.carving.carved_t).any()
     np.testing.assert_array_equal(planner.primary, whole_cell_histogram(planner, xy))
-    assert planner.binary[0]
+    read_gap(planner, [0.3], t0=0.6, x=1.24)  # moved 4 cm: a second view
+    assert np.isfinite(planner.carving.carved_t).any()
+    assert planner.primary.sum() < whole_cell_histogram(planner, np.array([1.24, 1.5])).sum()
 
 
 def test_a_cell_with_parts_seen_through_stands_as_its_kept_parts() -> None:
