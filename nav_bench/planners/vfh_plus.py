@@ -193,7 +193,8 @@ class ActiveWindow:
         x = np.concatenate([self.x.take(cells), parts[cell_i, part_i, 0]])[order]
         y = np.concatenate([self.y.take(cells), parts[cell_i, part_i, 1]])[order]
         certainty = np.concatenate([self.certainty.take(cells), self.certainty.take(cell_i)])[order]
-        weight = np.concatenate([np.ones(len(cells)), np.full(len(cell_i), 1.0 / kept.shape[1])])[order]
+        share = 1.0 / np.maximum(kept.sum(axis=1), 1)  # the cell's magnitude shared by its kept parts
+        weight = np.concatenate([np.ones(len(cells)), share.take(cell_i)])[order]
         dx, dy = x - xy[0], y - xy[1]
         return ActiveWindow(x, y, certainty, dx, dy, np.hypot(dx, dy), weight=weight)
 
