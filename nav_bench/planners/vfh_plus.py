@@ -38,11 +38,17 @@ cone is. So the window's cells are read through
 :class:`~nav_bench.planners.carving.SeeThroughCarving`, the carving D* Lite's follower
 measures its clearance against: each cell is ``CARVE_SUB`` x ``CARVE_SUB`` parts, and a part
 seen through from two different views (or under the body) in the last few seconds is dropped.
-A cell with a part dropped enters step 1 as its kept parts, each a point with the cell's
-certainty and ``1 / CARVE_SUB^2`` of the cell's magnitude (its share of the cell's area),
-enlarged by the same ``r_rs``; a cell with every part kept is its centre, as in the paper
-(Ulrich & Borenstein treat a certainty cell as a point at its centre and enlarge it by
-``r_rs``; the enlargement is unchanged, only where the evidence of an obstacle lies is finer).
+A cell with a part dropped enters step 1 as its ``k`` kept parts, each a point with the
+cell's certainty and ``1 / k`` of the cell's magnitude, enlarged by the same ``r_rs``: the
+carving says where in the cell the obstacle can still be, not that it is less likely, so the
+cell's evidence moves into its kept parts (a sector all of them cover gets the whole cell's
+magnitude). A cell with every part kept is its centre, as in the paper (Ulrich & Borenstein
+treat a certainty cell as a point at its centre and enlarge it by ``r_rs``): the enlargement
+is unchanged, only where the evidence of an obstacle lies is finer. Gated alternatives
+(``results/baselines/vfh_s13/``): ``1 / CARVE_SUB^2`` per part (the area's share) faded a
+surface's last parts beside the robot until they closed no sector, and contacts rose; the
+cell's whole magnitude on every kept part kept a gap closed by a few parts no view could see
+through.
 The grid itself is unchanged (EO/PC read it with the paper's semantics).
 ``carve_seen_through: false`` gives whole cells.
 
@@ -148,8 +154,8 @@ class ActiveWindow:
         dx, dy: (M,) centre less the robot's position, m.
         dist: (M,) distance from the robot, m.
         rows, cols: (M,) the cells' grid indices (:func:`read_window`), or None.
-        weight: (M,) each point's share of its cell's magnitude (1 for a whole cell,
-            ``1 / CARVE_SUB ** 2`` for a part), or None: all 1.
+        weight: (M,) each point's share of its cell's magnitude (1 for a whole cell, ``1 / k``
+            for each of a cell's ``k`` kept parts), or None: all 1.
     """
 
     x: np.ndarray
@@ -181,8 +187,8 @@ class ActiveWindow:
         """The window with each cell some of whose parts were seen through replaced by its
         kept parts (``kept`` (M, P) bool, ``parts`` (M, P, 2) their centres, m: a
         :class:`~nav_bench.planners.carving.CarvedCells` of this window's cells), each part a
-        point with its cell's certainty and ``1 / P`` of its cell's magnitude, in the cell's
-        place in window order. A cell with every part kept stays its centre, as in the paper,
+        point with its cell's certainty and ``1 / k`` of its cell's magnitude (``k`` its kept
+        parts), in the cell's place in window order. A cell with every part kept stays its centre, as in the paper,
         so that with nothing seen through the window is this one (seen from ``xy`` (2,), m)."""
         whole = kept.all(axis=1)
         if whole.all():

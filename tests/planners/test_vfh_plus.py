@@ -461,9 +461,9 @@ def whole_cell_histogram(planner: VFHPlus, xy: np.ndarray) -> np.ndarray:
 def test_cells_seen_through_from_two_views_no_longer_close_a_055_m_gap(carve: bool) -> None:
     """Two boxes 0.55 m apart, the robot 0.8 m before the gap. Facing it, the front sonars' arcs
     are blamed across the gap: the grid closes it (H^p straight ahead over threshold_high).
-    Turned 13-17 deg either way, a front cone looks through the gap: the grid alone keeps the
-    three sectors toward it above threshold_low (closed, by hysteresis), while the parts seen
-    through from two views leave them free (sector 0 = the gap's direction, world +x)."""
+    Turned 6-24 deg either way, the front cones look through the gap: the grid alone still
+    holds the three sectors toward it over threshold_high, while the parts seen through from
+    two views leave them below threshold_low, free (sector 0 = the gap's direction, world +x)."""
     planner = VFHPlus(carve_seen_through=carve)
     xy = np.array([1.2, 1.5])
     planner.reset(observe(GAP_WORLD, np.array([1.2, 1.5, 0.0]), np.array([3.5, 1.5]), GAP_ROBOT, 0.0, 0.1),
@@ -471,10 +471,11 @@ def test_cells_seen_through_from_two_views_no_longer_close_a_055_m_gap(carve: bo
     read_gap(planner, [0.0] * 6)
     assert planner.binary[0] and planner.primary[0] > planner.settings.threshold_high
     np.testing.assert_array_equal(planner.primary, whole_cell_histogram(planner, xy))  # nothing seen through
-    read_gap(planner, [-0.22, -0.3, 0.22, 0.3], t0=0.6)
+    turns = [-0.1, -0.18, -0.26, -0.34, -0.42, 0.1, 0.18, 0.26, 0.34, 0.42]  # 6-24 deg each way
+    read_gap(planner, turns, t0=0.6)
     toward_gap = [71, 0, 1]
     grid_only = whole_cell_histogram(planner, xy)
-    assert np.all(grid_only[toward_gap] > planner.settings.threshold_low)
+    assert np.all(grid_only[toward_gap] > planner.settings.threshold_high)
     if carve:
         assert np.all(planner.primary[toward_gap] < planner.settings.threshold_low)
         assert not planner.binary[toward_gap].any()
@@ -501,8 +502,8 @@ def test_a_part_seen_through_from_one_view_only_is_kept() -> None:
 
 def test_a_cell_with_parts_seen_through_stands_as_its_kept_parts() -> None:
     """ActiveWindow.carved: a cell with every part kept stays its centre (weight 1); one with
-    some parts dropped becomes its kept parts, in its place in window order, each with the
-    cell's certainty and 1/25 of its magnitude; one with every part dropped is gone."""
+    some parts dropped becomes its k kept parts, in its place in window order, each with the
+    cell's certainty and 1/k of its magnitude; one with every part dropped is gone."""
     from nav_bench.planners.carving import PARTS
     from nav_bench.planners.footprint import cell_parts
 
@@ -519,11 +520,11 @@ def test_a_cell_with_parts_seen_through_stands_as_its_kept_parts() -> None:
     np.testing.assert_allclose(out.x[1:], [1.01, 1.03, 1.05, 1.07, 1.09])
     np.testing.assert_allclose(out.y[1:], 0.11)
     np.testing.assert_array_equal(out.certainty, [15.0] + [6.0] * 5)
-    np.testing.assert_allclose(out.weight, [1.0] + [1.0 / PARTS] * 5)
+    np.testing.assert_allclose(out.weight, [1.0] + [1.0 / 5] * 5)
     np.testing.assert_allclose(out.dist, np.hypot(out.x, out.y))
-    # each part's magnitude is 1/25 of its cell's: that of certainty 6 / 5
+    # each of the 5 parts' magnitude is 1/5 of its cell's: that of certainty 6 / sqrt(5)
     hist = window_histogram(out, out.bearings(), N, r_rs=0.23, d_max=1.2, b=7.11)
     expected = (polar_histogram(centres[:1], np.array([15.0]), np.zeros(2), N, 0.23, 1.2, 7.11)
-                + polar_histogram(np.stack([out.x[1:], out.y[1:]], axis=1), np.full(5, 6.0 / 5), np.zeros(2), N,
-                                  0.23, 1.2, 7.11))
+                + polar_histogram(np.stack([out.x[1:], out.y[1:]], axis=1), np.full(5, 6.0 / math.sqrt(5)),
+                                  np.zeros(2), N, 0.23, 1.2, 7.11))
     np.testing.assert_allclose(hist, expected, rtol=1e-12)
