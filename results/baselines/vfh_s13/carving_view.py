@@ -43,12 +43,13 @@ def main() -> None:
     ap.add_argument("my", type=float)
     ap.add_argument("out")
     ap.add_argument("--near", type=float, default=1.0)
+    ap.add_argument("--at", type=float, default=None, help="draw this time (s) instead")
     a = ap.parse_args()
     replay = load(a.trace)
     p, mid = replay.planner, np.array([a.mx, a.my])
     best, first = None, None
     s = p.settings
-    for i in range(len(replay.t)):
+    for i in range(len(replay.t) if a.at is None else 0):
         p.act(replay.obs(i))
         xy = replay.odom[i, :2]
         d = float(np.hypot(*(mid - xy)))
@@ -62,9 +63,12 @@ def main() -> None:
         if whole[k] > s.threshold_high and p.primary[k] < s.threshold_low:
             first = i  # the grid closes the gap's direction, the kept parts leave it free
             break
-    if best is None:
+    if a.at is not None:
+        i = int(np.argmin(np.abs(replay.t - a.at)))
+    elif best is None:
         sys.exit("the robot never came that near the midpoint")
-    i = best[1] if first is None else first
+    else:
+        i = best[1] if first is None else first
     replay = load(a.trace)  # again, up to that cycle, to draw its state
     p = replay.planner
     for j in range(i + 1):
