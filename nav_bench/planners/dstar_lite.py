@@ -80,6 +80,7 @@ from nav_bench.errors import InputError
 from nav_bench.interface import Command, GridState, Observation, StuckReason, wrap_angle
 from nav_bench.mapping.occupancy import SONAR_MODELS, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
+from nav_bench.planners.carving import SeeThroughCarving
 from nav_bench.planners.follow import STOP, arrival_speed, pure_pursuit, steer
 from nav_bench.planners.footprint import (
     CARVE_SUB,
@@ -87,9 +88,7 @@ from nav_bench.planners.footprint import (
     GuardSettings,
     PointObstacles,
     SquareClearance,
-    cell_parts,
     guard,
-    seen_through_cells,
 )
 from nav_bench.planners.recovery import ProgressWatch, Recovery, RecoveryPhase, RecoverySettings
 
@@ -97,9 +96,7 @@ INF = math.inf
 SQRT2 = math.sqrt(2.0)
 PATH_PREFIX = 160  # cells of the path extracted at a time (16..23 m; the follower looks 0.5 m ahead)
 FLOOR_MARGIN = 0.01  # m: the least gap to the map's obstacles a robot inside its margin may dip to
-VIEW_MOVE_M, VIEW_TURN_RAD = 0.03, math.radians(5.0)  # a new view for carving: moved or turned this much
 ESCAPE_S = 4.0  # s: the longest the follower holds a way out of its margin
-CARVE_MEMORY_S = 3.0  # s: parts of occupied cells the sonars saw through this recently do not hold the follower
 CLEARANCE_POWER = 4  # the clearance cost falls as this power of the fraction of the margin left
 # (drow, dcol, step length in cells); fixed order makes tie-breaking deterministic
 MOVES: tuple[tuple[int, int, float], ...] = (
@@ -1000,12 +997,7 @@ class DStarLite(Planner):
         self.blocked = False  # the follower found no safe motion this cycle
         self.last_reason: StuckReason | None = None
         self.no_path_left = p.no_path_recoveries
-        parts = (*self.shape, CARVE_SUB * CARVE_SUB)
-        self._carved_t = np.full(parts, -INF, dtype=np.float32)  # when each part was last known free
-        self._seen_t = np.full(parts, -INF, dtype=np.float32)  # when a sonar last saw through it
-        self._seen_view = np.full(parts, -1, dtype=np.int32)  # from which view (see _local_clearance)
-        self._carve_noted = np.zeros(self.shape, dtype=bool)  # cells whose three records above may be set
-        self._view, self._view_pose = 0, np.asarray(obs.pose, dtype=float).copy()
+        self._carving = SeeThroughCarving(self.grid.frame, obs.pose)  # parts of cells seen through
         self._last_pose: np.ndarray | None = None
         self._last_t = obs.t
         self._speed = 0.0
@@ -1109,72 +1101,30 @@ class DStarLite(Planner):
         """The clearance the follower and the recovery check motions against this cycle: exact
         distances to the parts of the occupied cells near the robot that the sonars have not
         seen through (nor the body covered) in the last ``CARVE_MEMORY_S``
-        (:func:`~nav_bench.planners.footprint.seen_through`; each cell is checked as
-        ``CARVE_SUB`` x ``CARVE_SUB`` small squares). The grid blames a whole echo arc and a
-        cell needs many readings to be carved free again, so it stands up to a cell proud of
-        obstacles and narrows a 0.58 m gap to ~0.4 m, too narrow for the body; the readings
-        themselves tell which parts of those cells the sonars see through.
-
-        A part counts as seen through once two readings from different views (the robot
-        ``VIEW_MOVE_M`` or ``VIEW_TURN_RAD`` apart) saw through it: a box corner can poke
-        between the rays of one cone (a cone's rays are a few degrees apart) and a ray grazing
-        past it reads long, but not from two views. Remembered a few seconds, so that the
-        obstacles do not flicker with the robot's heading; a cell the grid frees forgets it."""
+        (:class:`~nav_bench.planners.carving.SeeThroughCarving`: each cell is checked as
+        ``CARVE_SUB`` x ``CARVE_SUB`` small squares, one counts as seen through from two views).
+        The grid blames a whole echo arc and a cell needs many readings to be carved free
+        again, so it stands up to a cell proud of obstacles and narrows a 0.58 m gap to
+        ~0.4 m, too narrow for the body; the readings themselves tell which parts of those
+        cells the sonars see through."""
         cell = self.settings.cell
         cap = self._squares.cap
         pose = np.asarray(obs.pose, dtype=float)
-        if (np.hypot(*(pose[:2] - self._view_pose[:2])) >= VIEW_MOVE_M
-                or abs(math.remainder(float(pose[2] - self._view_pose[2]), 2 * math.pi)) >= VIEW_TURN_RAD):
-            self._view += 1
-            self._view_pose = pose.copy()
         reach = min(self.settings.v_max, obs.robot.v_max) * self.settings.safety_horizon_s + cap + 0.2
         n = math.ceil(reach / cell)
         r0, c0 = self._cell_of(pose)
         h, w = self.shape
         a0, a1, b0, b1 = max(r0 - n, 0), min(r0 + n + 1, h), max(c0 - n, 0), min(c0 + n + 1, w)
-        if a1 <= a0 or b1 <= b0:
-            return PointObstacles(np.zeros((0, 2)), cell / (2 * CARVE_SUB), cap, self.grid.bounds)
+        a1, b1 = max(a1, a0), max(b1, b0)  # an empty box when the robot is far outside the grid
         window = self.occupied[a0:a1, b0:b1]
-        carved = self._carved_t[a0:a1, b0:b1]
-        last_t, last_view = self._seen_t[a0:a1, b0:b1], self._seen_view[a0:a1, b0:b1]
-        noted = self._carve_noted[a0:a1, b0:b1]
-        forget = noted & ~window  # a cell the grid frees forgets its carving (others hold none)
-        if forget.any():
-            carved[forget] = -INF
-            last_t[forget] = -INF
-            last_view[forget] = -1
-            noted[forget] = False
         rr, cc = np.nonzero(window)
-        noted[rr, cc] = True
-        # the records as one row of parts per cell, read and written by flat cell index (a
-        # gather of whole rows costs less than indexing the window by row and column)
-        flat = (rr + a0) * w + (cc + b0)
-        parts_n = CARVE_SUB * CARVE_SUB
-        carved_rows = self._carved_t.reshape(-1, parts_n)
-        seen_rows, view_rows = self._seen_t.reshape(-1, parts_n), self._seen_view.reshape(-1, parts_n)
-        frame = self.grid.frame  # the cells' centres, as the grid's cell_center computes them
-        centres = np.empty((len(rr), 2))
-        centres[:, 0] = frame.xmin + ((cc + b0).astype(float) + 0.5) * frame.cell
-        centres[:, 1] = frame.ymin + ((rr + a0).astype(float) + 0.5) * frame.cell
-        parts = cell_parts(centres, cell)  # (M, CARVE_SUB ** 2, 2)
-        seen = seen_through_cells(centres, cell, pose, np.asarray(obs.ranges, dtype=float), obs.robot.sonar,
-                                  parts=parts)
-        # only cells with a part seen through or under the body change their records (a part
-        # is at most cell / sqrt 2 from its cell's centre)
-        under = np.hypot(centres[:, 0] - pose[0], centres[:, 1] - pose[1]) <= obs.robot.radius + cell * 0.75
-        act = np.flatnonzero(seen.any(axis=1) | under)
-        if len(act):
-            at, seen = flat[act], seen[act]
-            times, seen_at, views = carved_rows[at], seen_rows[at], view_rows[at]  # copies
-            confirmed = seen & (views >= 0) & (views != self._view) & (seen_at >= obs.t - CARVE_MEMORY_S)
-            times[confirmed] = obs.t
-            seen_at[seen] = obs.t
-            views[seen] = self._view
-            pa = parts[act]
-            times[np.hypot(pa[..., 0] - pose[0], pa[..., 1] - pose[1]) <= obs.robot.radius] = obs.t  # the body
-            carved_rows[at], seen_rows[at], view_rows[at] = times, seen_at, views  # stands there: certain
-        keep = carved_rows[flat] < obs.t - CARVE_MEMORY_S
-        return PointObstacles(parts[keep], cell / (2 * CARVE_SUB), cap, self.grid.bounds)
+        carved = self._carving.update(obs, rr + a0, cc + b0, (a0, a1, b0, b1), window)
+        return PointObstacles(carved.kept_parts(), cell / (2 * CARVE_SUB), cap, self.grid.bounds)
+
+    @property
+    def _carved_t(self) -> np.ndarray:
+        """(H, W, CARVE_SUB ** 2) when each part was last known free, s (the carving's record)."""
+        return self._carving.carved_t
 
     def _map_changes(self, robot_rc: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Cells whose cost changed since the last cycle (rows, cols, new costs).

@@ -28,6 +28,30 @@ just behind the goal would otherwise close the goal's sector for good):
 5. **Cost** ``mu1 D(c, goal) + mu2 D(c, heading) + mu3 D(c, previous choice)`` (D: angular
    difference in sectors); the cheapest candidate is the new direction.
 
+**Cells seen through** (issue 12, ``results/baselines/vfh_s13/``): the shared grid blames a
+sonar's whole echo arc and frees a cell only after many readings, so it stands up to a cell
+proud of each obstacle; a 0.5-0.58 m gap between furniture, which the body (0.36 m) and the
+enlarged robot (``2 r_rs`` = 0.46 m) fit through, closes in the histogram (the twelfth
+session's six "implementation" timeouts, ``results/baselines/vfh_s12/``). The readings tell
+which parts of those cells are free: a cone sonar's range says everything nearer inside its
+cone is. So the window's cells are read through
+:class:`~nav_bench.planners.carving.SeeThroughCarving`, the carving D* Lite's follower
+measures its clearance against: each cell is ``CARVE_SUB`` x ``CARVE_SUB`` parts, and a part
+seen through from two different views (or under the body) in the last few seconds is dropped.
+A cell with a part dropped enters step 1 as its ``k`` kept parts, each a point with the
+cell's certainty and ``1 / k`` of the cell's magnitude, enlarged by the same ``r_rs``: the
+carving says where in the cell the obstacle can still be, not that it is less likely, so the
+cell's evidence moves into its kept parts (a sector all of them cover gets the whole cell's
+magnitude). A cell with every part kept is its centre, as in the paper (Ulrich & Borenstein
+treat a certainty cell as a point at its centre and enlarge it by ``r_rs``): the enlargement
+is unchanged, only where the evidence of an obstacle lies is finer. Gated alternatives
+(``results/baselines/vfh_s13/``): ``1 / CARVE_SUB^2`` per part (the area's share) faded a
+surface's last parts beside the robot until they closed no sector, and contacts rose; the
+cell's whole magnitude on every kept part kept a gap closed by a few parts no view could see
+through.
+The grid itself is unchanged (EO/PC read it with the paper's semantics).
+``carve_seen_through: false`` gives whole cells.
+
 **The window's size** (issue 12, ``results/baselines/vfh_s8/`` and ``vfh_s11/``): 1.2 m with
 ``b`` = 7.11, so ``a = 1 + b 1.2^2`` = 11.24 is the near weight the earlier 1.6 m window with
 ``b = 4`` had. The shared grid marks a wall certain along its whole length, so a wall across a
@@ -61,7 +85,8 @@ What VFH+ cannot do, by its method: it has no memory and no look-ahead (VFH*, Ul
 Borenstein 2000, adds it), so a U trap, a comb's closed pocket or a maze's dead end holds
 it in a back-and-forth the episode ends as ``stuck`` (oscillating); and a gap narrower than
 ``2 (radius + safety_distance)`` in the map (sonar arcs narrow a gap by a cell a side) is
-never a valley. A reactive method: no ``replan`` events.
+never a valley unless the sonars see through the parts that narrow it (above). A reactive
+method: no ``replan`` events.
 
 Speed (issue 16; ``benchmarks/bench_vfh.py``, ``benchmarks/bench_planning.py``): a cycle reads
 only the window's square of the live map and only its cells above 50 (:func:`read_window`),
@@ -77,6 +102,7 @@ histogram, hence every command, is the same bit for bit as testing every sector 
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import itertools
 import math
@@ -89,6 +115,7 @@ from nav_bench.interface import Command, GridState, Observation, StuckReason, wr
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
+from nav_bench.planners.carving import SeeThroughCarving
 from nav_bench.planners.follow import STOP, arrival_speed, limit
 
 
@@ -118,13 +145,17 @@ def certainty_from_occupancy(values: np.ndarray, c_max: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class ActiveWindow:
-    """The cells of the active window with certainty > 0 as the robot sees them.
+    """The cells of the active window with certainty > 0 as the robot sees them (or, after
+    :meth:`carved`, the points that stand for them).
 
     Attributes:
         x, y: (M,) cell centres, m.
         certainty: (M,) certainty, 0..``c_max``.
         dx, dy: (M,) centre less the robot's position, m.
         dist: (M,) distance from the robot, m.
+        rows, cols: (M,) the cells' grid indices (:func:`read_window`), or None.
+        weight: (M,) each point's share of its cell's magnitude (1 for a whole cell, ``1 / k``
+            for each of a cell's ``k`` kept parts), or None: all 1.
     """
 
     x: np.ndarray
@@ -133,6 +164,9 @@ class ActiveWindow:
     dx: np.ndarray
     dy: np.ndarray
     dist: np.ndarray
+    rows: np.ndarray | None = None
+    cols: np.ndarray | None = None
+    weight: np.ndarray | None = None
 
     @classmethod
     def of_cells(cls, cells_xy: np.ndarray, certainty: np.ndarray, xy: np.ndarray) -> ActiveWindow:
@@ -149,6 +183,27 @@ class ActiveWindow:
         """(M,) world angle of each cell from the robot, rad."""
         return np.arctan2(self.dy, self.dx)
 
+    def carved(self, kept: np.ndarray, parts: np.ndarray, xy: np.ndarray) -> ActiveWindow:
+        """The window with each cell some of whose parts were seen through replaced by its
+        kept parts (``kept`` (M, P) bool, ``parts`` (M, P, 2) their centres, m: a
+        :class:`~nav_bench.planners.carving.CarvedCells` of this window's cells), each part a
+        point with its cell's certainty and ``1 / k`` of its cell's magnitude (``k`` its kept
+        parts), in the cell's place in window order. A cell with every part kept stays its centre, as in the paper,
+        so that with nothing seen through the window is this one (seen from ``xy`` (2,), m)."""
+        whole = kept.all(axis=1)
+        if whole.all():
+            return self
+        cell_i, part_i = np.nonzero(kept & ~whole[:, None])  # cell by cell
+        cells = np.flatnonzero(whole)
+        order = np.argsort(np.concatenate([cells, cell_i]), kind="stable")
+        x = np.concatenate([self.x.take(cells), parts[cell_i, part_i, 0]])[order]
+        y = np.concatenate([self.y.take(cells), parts[cell_i, part_i, 1]])[order]
+        certainty = np.concatenate([self.certainty.take(cells), self.certainty.take(cell_i)])[order]
+        share = 1.0 / np.maximum(kept.sum(axis=1), 1)  # the cell's magnitude shared by its kept parts
+        weight = np.concatenate([np.ones(len(cells)), share.take(cell_i)])[order]
+        dx, dy = x - xy[0], y - xy[1]
+        return ActiveWindow(x, y, certainty, dx, dy, np.hypot(dx, dy), weight=weight)
+
 
 @functools.lru_cache(maxsize=4)
 def centre_coordinates(frame: GridFrame) -> tuple[np.ndarray, np.ndarray]:
@@ -160,20 +215,27 @@ def centre_coordinates(frame: GridFrame) -> tuple[np.ndarray, np.ndarray]:
     return xs, ys
 
 
+def window_box(frame: GridFrame, xy: np.ndarray, radius: float) -> tuple[int, int, int, int]:
+    """(row0, row1, col0, col1): the grid's square holding the disc of ``radius`` m round
+    ``xy`` (the robot's cell +- ``ceil(radius / cell) + 1``), clipped to the grid (may be
+    empty: row1 <= row0 or col1 <= col0)."""
+    h, w = frame.shape
+    r0, c0 = frame.cell_of(float(xy[0]), float(xy[1]))
+    n = math.ceil(radius / frame.cell) + 1
+    return max(r0 - n, 0), min(r0 + n + 1, h), max(c0 - n, 0), min(c0 + n + 1, w)
+
+
 def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
                 c_max: float) -> ActiveWindow:
     """The cells with certainty > 0 within ``radius`` m of ``xy``, in row-major order: the
     active window of the occupancy ``values`` (H, W) 0..100 laid out by ``frame``. Reads only
-    the window's square of the live map, and converts only its cells above 50 (certainty > 0)."""
-    cell = frame.cell
-    h, w = frame.shape
+    the window's square of the live map (:func:`window_box`), and converts only its cells
+    above 50 (certainty > 0)."""
     x, y = float(xy[0]), float(xy[1])
-    r0, c0 = frame.cell_of(x, y)
-    n = math.ceil(radius / cell) + 1
-    rs, re = max(r0 - n, 0), min(r0 + n + 1, h)
-    cs, ce = max(c0 - n, 0), min(c0 + n + 1, w)
+    rs, re, cs, ce = window_box(frame, xy, radius)
     if rs >= re or cs >= ce:
-        return ActiveWindow.of_cells(np.zeros((0, 2)), np.zeros(0), xy)
+        none = np.zeros(0, dtype=np.intp)
+        return dataclasses.replace(ActiveWindow.of_cells(np.zeros((0, 2)), np.zeros(0), xy), rows=none, cols=none)
     square = values[rs:re, cs:ce]
     above = square > UNKNOWN
     rr, cc = np.divmod(above.ravel().nonzero()[0], ce - cs)  # row-major, as np.nonzero
@@ -184,10 +246,11 @@ def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: fl
     cx, cy = xs[cs:ce].take(cc), ys[rs:re].take(rr)
     dx, dy = cx - x, cy - y
     dist = np.hypot(dx, dy)
+    rows, cols = rr + rs, cc + cs
     if dist.max(initial=0.0) > radius:  # the square's corners: keep the disc
         near = (dist <= radius).nonzero()[0]
-        cx, cy, cert, dx, dy, dist = (a.take(near) for a in (cx, cy, cert, dx, dy, dist))
-    return ActiveWindow(cx, cy, cert, dx, dy, dist)
+        cx, cy, cert, dx, dy, dist, rows, cols = (a.take(near) for a in (cx, cy, cert, dx, dy, dist, rows, cols))
+    return ActiveWindow(cx, cy, cert, dx, dy, dist, rows, cols)
 
 
 def active_cells(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
@@ -240,6 +303,8 @@ def window_histogram(window: ActiveWindow, bearings: np.ndarray, n_sectors: int,
         return np.zeros(n_sectors)
     dist = np.maximum(window.dist, 1e-6)
     mag = window.certainty ** 2 * (1.0 + b * (d_max ** 2 - dist ** 2))
+    if window.weight is not None:  # parts of cells: their share of the cell's magnitude
+        mag *= window.weight
     gamma = np.arcsin(np.minimum(1.0, r_rs / dist))
     sector, cell = covered_sectors(bearings, gamma, n_sectors)
     # (n, M): each cell's magnitude in the sectors it covers (each pair once), 0 elsewhere;
@@ -434,6 +499,8 @@ class VFHPlus(Planner):
               minimum=0.0),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the chosen direction is farther off",
               minimum=0.0, maximum=180.0),
+        Param("carve_seen_through", True, "-", "build the histogram from the parts of the grid's cells the "
+              "sonars have not seen through from two views (nav_bench.planners.carving); false: whole cells"),
     )
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
@@ -441,6 +508,7 @@ class VFHPlus(Planner):
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
         self.frame = GridFrame.from_bounds(self.grid.bounds, self.grid.cell)
+        self.carving = SeeThroughCarving(self.frame, obs.pose)
         self.n = max(4, round(360.0 / p.sector_deg))
         self.alpha = 2 * math.pi / self.n
         self.binary = np.zeros(self.n, dtype=bool)
@@ -463,8 +531,9 @@ class VFHPlus(Planner):
         d_goal = float(np.hypot(*(goal - xy)))
         r_rs = robot.radius + p.safety_distance
         # obstacles beyond the goal cannot block the way to it: the window shrinks to the goal
-        window = read_window(self.grid.values(copy=False), self.frame, xy, min(p.window_radius, d_goal),
-                             p.c_max)
+        radius = min(p.window_radius, d_goal)
+        window = (self._carved_window(obs, xy, radius) if p.carve_seen_through else
+                  read_window(self.grid.values(copy=False), self.frame, xy, radius, p.c_max))
         bearings = window.bearings()
         self.primary = window_histogram(window, bearings, self.n, r_rs, p.window_radius, p.distance_weight)
         self.binary = binary_histogram(self.primary, self.binary, p.threshold_low, p.threshold_high)
@@ -503,6 +572,17 @@ class VFHPlus(Planner):
         cmd = limit(v, omega, robot)
         self.v_prev = cmd.v
         return cmd if math.isfinite(cmd.v) else STOP
+
+    def _carved_window(self, obs: Observation, xy: np.ndarray, radius: float) -> ActiveWindow:
+        """The active window (``radius`` m round ``xy``) with the parts of its cells the
+        sonars have seen through carved away (:meth:`ActiveWindow.carved`)."""
+        values = self.grid.values(copy=False)
+        window = read_window(values, self.frame, xy, radius, self.settings.c_max)
+        a0, a1, b0, b1 = window_box(self.frame, xy, radius)
+        a1, b1 = max(a1, a0), max(b1, b0)  # an empty box when the robot is far outside the grid
+        carved = self.carving.update(obs, window.rows, window.cols, (a0, a1, b0, b1),
+                                     values[a0:a1, b0:b1] > UNKNOWN)
+        return window.carved(carved.kept, carved.parts, xy)
 
     def stuck_reason(self) -> StuckReason | None:
         """NO_PATH while no valley is open (every sector blocked: the robot turns on the spot
