@@ -235,8 +235,6 @@ class WallFollower:
     beside_sonars = math.radians(40.0)  # other-side sonars this far off the heading measure a passage
     edge_slack = 0.08  # m: a front echo this close to the other side's edge range is that side
     max_turn_rate = 2.0  # rad/s: the turn on the spot's cap (11.5 deg a cycle at 10 Hz), see turn_rate
-    corner_lead = math.radians(30.0)  # a followed point this far ahead of beside is a corner to round, see _passage_axis
-    cone_memory_s = 1.0  # s: readings kept as cones to tell where an echo ahead may be, see _way_clear
 
     def __init__(self, side: int, distance: float, speed: float, front: float,
                  k_dist: float = 2.0, memory_s: float = 3.0, reach: float = 0.6) -> None:
@@ -245,7 +243,6 @@ class WallFollower:
         self.side, self.distance, self.speed, self.front = side, distance, speed, front
         self.k_dist, self.reach = k_dist, reach
         self.memory = EchoMemory(memory_s)
-        self.cones = ConeMemory(self.cone_memory_s)
         self._seen_t = -math.inf  # time of the last cycle remembered
         # nearest()'s answer for the observation it was asked about (TangentBug asks, then its
         # follower's act() asks again in the same cycle); cleared when the memory changes
@@ -266,7 +263,6 @@ class WallFollower:
         in the cycles it does not follow, so the memory has no gap when following starts)."""
         if obs.t > self._seen_t:
             self.memory.add(obs, self._sonar_groups(obs.robot.sonar)[0])
-            self.cones.add(obs)
             self._seen_t = obs.t
             self._nearest_of = None
 
@@ -304,46 +300,12 @@ class WallFollower:
         echo point lies beside the robot or a little ahead (``-radius < x < front`` in the robot
         frame); ``inf`` if none. With the followed boundary's distance it gives the
         width of the passage the robot is in."""
-        echo = self._other_side_echo(obs)
-        return math.inf if echo is None else -self.side * echo[1]
-
-    def _other_side_echo(self, obs: Observation) -> tuple[float, float, float] | None:
-        """The echo :meth:`other_side_clearance` measures, as in :func:`robot_frame_echoes`."""
-        nearest, found = math.inf, None
+        nearest = math.inf
         for x, y, angle in robot_frame_echoes(obs):
             lateral = -self.side * y
-            if -self.side * angle >= self.beside_sonars and -obs.robot.radius < x < self.front and 0.0 < lateral < nearest:
-                nearest, found = lateral, (x, y, angle)
-        return found
-
-    def _other_side_point(self, obs: Observation) -> tuple[float, float]:
-        """Robot-frame point (x, y) m of the other side's echo (:meth:`_other_side_echo`) placed
-        on its cone's ray nearest to the perpendicular of the heading, not on its axis: a
-        sonar's nearest return from a wall parallel to the heading comes along that ray, so
-        beside such a wall the point is on the wall, where the axis point of a 45 deg sonar
-        sits 0.2 m too far ahead."""
-        x, y, angle = self._other_side_echo(obs)
-        s = obs.robot.sonar
-        k = int(np.argmin(np.abs(s.angles - angle)))
-        mx, my = float(s.offsets[k, 0]), float(s.offsets[k, 1])
-        r = math.hypot(x - mx, y - my)
-        ray = angle + max(-s.cone / 2, min(s.cone / 2, -self.side * math.pi / 2 - angle))
-        return mx + r * math.cos(ray), my + r * math.sin(ray)
-
-    def _passage_axis(self, obs: Observation, near: tuple[float, float]) -> float:
-        """World heading (rad) along a narrow passage between the followed boundary's nearest
-        point and the other side's echo (:meth:`_other_side_point`): at right angles to the line
-        joining them, the followed point on ``side``. Beside two parallel walls it is the
-        followed wall's tangent. At a gap whose sides are two convex corners, the followed
-        corner's tangent points across the gap, at the far corner, and the robot turned away
-        from the gap (class A, results/baselines/follow_s13); the axis leads through it."""
-        x, y, yaw = (float(q) for q in obs.pose)
-        dist, bearing = near
-        px, py = self._other_side_point(obs)
-        c, s = math.cos(yaw), math.sin(yaw)
-        other_x, other_y = x + c * px - s * py, y + s * px + c * py
-        near_x, near_y = x + dist * math.cos(bearing), y + dist * math.sin(bearing)
-        return math.atan2(near_y - other_y, near_x - other_x) - self.side * math.pi / 2
+            if -self.side * angle >= self.beside_sonars and -obs.robot.radius < x < self.front and lateral > 0.0:
+                nearest = min(nearest, lateral)
+        return nearest
 
     def _edge_echo_explained(self, obs: Observation, other: float) -> np.ndarray:
         """(K,) bool: sonars on the other side whose reading is within ``edge_slack`` of the
@@ -376,27 +338,6 @@ class WallFollower:
             return math.inf
         return ahead
 
-    def _way_clear(self, obs: Observation, front: float) -> bool:
-        """True if no place where a remembered echo's surface may be
-        (:meth:`ConeMemory.possible_positions`) lies in the corridor ahead, ``0 < x < front``
-        (m) and ``|y| <`` :func:`corridor_half_width` in the robot frame.
-
-        Why: an echo ahead placed on its sonar's axis may be up to half a cone off the surface.
-        The far side of a gap at a convex corner, heard by the other side's front sonar, lands
-        on the way ahead although the gap is open, and the robot turned away from every such
-        gap it met (class A, results/baselines/follow_s13); a rule that drives on past axis
-        echoes grazes (follow_s12). Every sample of the echo's arc that no cone saw past counts
-        here, so the robot drives on only where the body's corridor is free of all of them."""
-        x, y, yaw = (float(q) for q in obs.pose)
-        half = corridor_half_width(obs.robot)
-        pts = self.cones.possible_positions(obs.robot.sonar, np.array([x, y]), math.hypot(front, half))
-        if len(pts) == 0:
-            return True
-        c, s = math.cos(yaw), math.sin(yaw)
-        dx, dy = pts[:, 0] - x, pts[:, 1] - y
-        local = np.stack([c * dx + s * dy, -s * dx + c * dy], axis=1)
-        return not bool(np.any(in_corridor(local, front, half)))
-
     def turn_rate(self, robot: RobotInfo) -> float:
         """Rate (rad/s) of the turn on the spot away from a wall ahead: ``0.6 omega_max``, at
         most ``max_turn_rate``. The simulated robot's 0.6 omega_max is 3.5 rad/s, 20 deg a
@@ -427,17 +368,16 @@ class WallFollower:
         # until a wall ahead is as near as that side (+ ahead_slack) and then turns, rather than
         # stop short of it, where neither rule below would move it again
         front = self.front if math.isinf(other) else min(self.front, target + self.ahead_slack)
-        if ahead < front and not self._way_clear(obs, front):
-            # the boundary ahead: turn on the spot away from the side until the way is clear
+        if ahead < front and (near is None or ahead <= near[0] + self.ahead_slack):
+            # the nearest boundary is straight ahead: its tangent is a right angle away from
+            # the side; turn on the spot until the way ahead is clear
             return limit(0.0, -self.side * self.turn_rate(robot), robot)
         if near is None:  # the boundary ended out of reach: arc round toward it
             return limit(0.6 * v, self.side * 0.6 * v / max(self.distance, 1e-3), robot)
         dist, bearing = near
         correction = max(-self.max_correction, min(self.max_correction, self.k_dist * (dist - target)))
-        corner_ahead = self.side * wrap_angle(bearing - float(obs.pose[2])) < math.pi / 2 - self.corner_lead
-        tangent = self._passage_axis(obs, near) if corner_ahead and math.isfinite(other) else bearing - self.side * math.pi / 2
-        heading = tangent + self.side * correction
-        return steer(obs, heading, v)
+        heading = bearing - self.side * math.pi / 2 + self.side * correction
+        return steer(obs, heading, 0.0 if ahead < front else v)
 
 
 # ----------------------------------------------------------------------------- echo memory
@@ -525,82 +465,6 @@ class EchoMemory:
 
     def __len__(self) -> int:
         return self._hi - self._lo
-
-
-# ----------------------------------------------------------------------------- cone memory
-class ConeMemory:
-    """The sonar readings of the last ``horizon`` seconds as cones in the world frame (from the
-    odometry pose): each reading's mount point, axis angle and range, ``max_range`` when it
-    heard nothing.
-
-    A reading says two things: something lies at its range *somewhere across* its cone, and
-    nothing lies nearer anywhere in the cone (the sonar reports the nearest return). An echo
-    placed on the axis (:class:`EchoMemory`) keeps the first half and guesses; this memory keeps
-    both, so that :meth:`possible_positions` can tell where an echo's surface may be.
-
-    Args:
-        horizon: how long a reading is kept, s.
-    """
-
-    def __init__(self, horizon: float) -> None:
-        self.horizon = horizon
-        self.clear()
-
-    def clear(self) -> None:
-        self._cycles: list[tuple[float, np.ndarray, np.ndarray, np.ndarray]] = []
-
-    def add(self, obs: Observation) -> None:
-        """Store this cycle's readings and forget those older than the horizon."""
-        s = obs.robot.sonar
-        x, y, yaw = (float(q) for q in obs.pose)
-        c, si = math.cos(yaw), math.sin(yaw)
-        mounts = np.empty((len(s.angles), 2))
-        mounts[:, 0] = x + c * s.offsets[:, 0] - si * s.offsets[:, 1]
-        mounts[:, 1] = y + si * s.offsets[:, 0] + c * s.offsets[:, 1]
-        ranges = np.where(np.isfinite(obs.ranges), obs.ranges, s.max_range)
-        self._cycles = [cyc for cyc in self._cycles if cyc[0] >= obs.t - self.horizon and cyc[0] <= obs.t]
-        self._cycles.append((obs.t, mounts, yaw + s.angles, np.minimum(ranges, s.max_range)))
-
-    def readings(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Mount points (N, 2) m, world axis angles (N,) rad and ranges (N,) m, oldest first."""
-        if not self._cycles:
-            return np.zeros((0, 2)), np.zeros(0), np.zeros(0)
-        return (np.concatenate([cyc[1] for cyc in self._cycles]),
-                np.concatenate([cyc[2] for cyc in self._cycles]),
-                np.concatenate([cyc[3] for cyc in self._cycles]))
-
-    def possible_positions(self, sonar: SonarInfo, center: np.ndarray, radius: float,
-                           slack: float = 0.05, samples: int = 11) -> np.ndarray:
-        """(P, 2) world points within ``radius`` m of ``center`` (2,) where the surfaces behind
-        the remembered echoes may be, m.
-
-        Each echo (a reading below ``max_range``) is taken as the arc of its range across its
-        cone, sampled at ``samples`` bearings edge to edge (the echo comes from the nearest
-        return anywhere in the cone, up to half a cone off the axis). A sample is ruled out
-        when it lies inside another remembered cone nearer than that reading's range less
-        ``slack`` (m, for the range noise): that sonar heard nothing there. What is left is
-        where the surface may be; a convex corner that a side sonar heard through its cone's
-        edge, and that other cones saw past as the robot turned, keeps only the samples near
-        where it is."""
-        mounts, axes, ranges = self.readings()
-        echo = ranges < sonar.max_range
-        if not echo.any():
-            return np.zeros((0, 2))
-        spread = np.linspace(-sonar.cone / 2, sonar.cone / 2, samples)
-        bearing = (axes[echo][:, None] + spread[None, :]).ravel()
-        reach = np.repeat(ranges[echo], samples)
-        pts = np.repeat(mounts[echo], samples, axis=0)
-        pts[:, 0] += reach * np.cos(bearing)
-        pts[:, 1] += reach * np.sin(bearing)
-        pts = pts[np.hypot(pts[:, 0] - center[0], pts[:, 1] - center[1]) <= radius]
-        d = pts[:, None, :] - mounts[None, :, :]  # (P, N, 2) from every mount
-        dist = np.hypot(d[..., 0], d[..., 1])
-        off_axis = np.abs(np.remainder(np.arctan2(d[..., 1], d[..., 0]) - axes[None, :] + math.pi, 2 * math.pi) - math.pi)
-        seen_past = (off_axis <= sonar.cone / 2) & (dist < ranges[None, :] - slack)
-        return pts[~seen_past.any(axis=1)]
-
-    def __len__(self) -> int:
-        return sum(len(cyc[3]) for cyc in self._cycles)
 
 
 # ----------------------------------------------------------------------------- loops

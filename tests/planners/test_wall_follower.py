@@ -248,12 +248,19 @@ def test_a_follower_at_a_junction_of_narrow_gaps_stops_its_turn_on_a_way_out() -
 
 
 # ----------------------------------------------------------------------------- issue 12: the dead band
-def test_an_echo_ahead_farther_than_the_side_wall_turns_the_robot_away_rather_than_stand() -> None:
+DEAD_BAND_OPEN = pytest.mark.xfail(
+    strict=True, reason="issue 12 dead band, open: main's follower stands; driving through (follow_s12) and turning "
+    "(follow_s13, candidates A and B) were gated and did not ship")
+
+
+@DEAD_BAND_OPEN
+def test_an_echo_ahead_farther_than_the_side_wall_is_not_stood_before() -> None:
     """The dead band (results/baselines/follow_s12): with the followed wall 0.29 m beside and a
     wall across the way 0.42 m ahead (heard 0.41 m ahead, farther than the side + ahead_slack,
-    nearer than ``front``), main's follower neither turned nor drove: v = 0 on the tangent, where
-    the simulated robot stood for a third of office_11's last 30 s. The wall may lie in the
-    corridor ahead: the robot turns on the spot away from its side (follow_s13)."""
+    nearer than ``front``), main's follower neither turns nor drives: v = 0 on the tangent
+    (|omega| 0.21 rad/s from the distance correction), where the simulated robot stood for a
+    third of office_11's last 30 s. Driving on (follow_s12: 9cdeae7, e53db44) and turning on
+    the spot (follow_s13: candidate A) pass this test; none met the gate's ship criterion."""
     world = BoxWorld.room((6.0, 3.0), [(2.42, 0.0, 2.62, 3.0)])
     follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
     robot = default_robot()
@@ -262,8 +269,7 @@ def test_an_echo_ahead_farther_than_the_side_wall_turns_the_robot_away_rather_th
     assert near is not None and near[0] == pytest.approx(0.29, abs=0.01)
     assert near[0] + follower.ahead_slack < follower._ahead(obs, math.inf) < follower.front
     cmd = follower.act(obs)
-    assert cmd.v == 0.0
-    assert cmd.omega == pytest.approx(follower.turn_rate(robot))  # counter-clockwise, away from the right
+    assert cmd.v >= 0.01 or abs(cmd.omega) >= 0.3  # it drives or turns
 
 
 def synthetic_observation(robot: RobotInfo, near: float, ahead: float, other: float, front: tuple[float, ...],
@@ -286,14 +292,17 @@ def synthetic_observation(robot: RobotInfo, near: float, ahead: float, other: fl
                        robot=robot, bounds=(-5.0, -5.0, 5.0, 5.0), dt=DT)
 
 
+@DEAD_BAND_OPEN
 @pytest.mark.parametrize("heard_ahead_by", ["both", "followed side", "other side"])
 def test_every_reading_of_side_ahead_and_other_side_gets_a_command_that_moves_the_robot(
         heard_ahead_by: str) -> None:
-    """No dead band (WallFollower.act's docstring proves it): over a grid of the distances (from
-    the centre) of the followed wall (near), an echo ahead and the other side's wall, held for
-    two cycles, every command turns (|omega| >= 0.3 rad/s) or drives (v >= 0.01 m/s); the robot
-    never stands. Main's follower stood (v = 0, the heading on the tangent) wherever the echo
-    ahead was nearer than ``front`` but farther than the side + ahead_slack: 95 of these cells."""
+    """No dead band: over a grid of the distances (from the centre) of the followed wall (near),
+    an echo ahead and the other side's wall, held for two cycles, every command turns
+    (|omega| >= 0.3 rad/s) or drives (v >= 0.01 m/s); the robot never stands. Main's follower
+    stands (v = 0, the heading on the tangent) wherever the echo ahead is nearer than ``front``
+    but farther than the side + ahead_slack: 7 of these 1960 cells in each case. A follower
+    with one rule for turning and driving passes it (candidates A and B of
+    results/baselines/follow_s13, whose section 3 has the proof)."""
     robot = DIFFBOT_LIKE
     front = {"both": (-15.0, 15.0), "followed side": (-15.0,), "other side": (15.0,)}[heard_ahead_by]
     still = []
