@@ -235,7 +235,6 @@ class WallFollower:
     beside_sonars = math.radians(40.0)  # other-side sonars this far off the heading measure a passage
     edge_slack = 0.08  # m: a front echo this close to the other side's edge range is that side
     max_turn_rate = 2.0  # rad/s: the turn on the spot's cap (11.5 deg a cycle at 10 Hz), see turn_rate
-    corner_lead = math.radians(30.0)  # a followed point this far ahead of beside is a corner to round, see _passage_axis
 
     def __init__(self, side: int, distance: float, speed: float, front: float,
                  k_dist: float = 2.0, memory_s: float = 3.0, reach: float = 0.6) -> None:
@@ -301,46 +300,12 @@ class WallFollower:
         echo point lies beside the robot or a little ahead (``-radius < x < front`` in the robot
         frame); ``inf`` if none. With the followed boundary's distance it gives the
         width of the passage the robot is in."""
-        echo = self._other_side_echo(obs)
-        return math.inf if echo is None else -self.side * echo[1]
-
-    def _other_side_echo(self, obs: Observation) -> tuple[float, float, float] | None:
-        """The echo :meth:`other_side_clearance` measures, as in :func:`robot_frame_echoes`."""
-        nearest, found = math.inf, None
+        nearest = math.inf
         for x, y, angle in robot_frame_echoes(obs):
             lateral = -self.side * y
-            if -self.side * angle >= self.beside_sonars and -obs.robot.radius < x < self.front and 0.0 < lateral < nearest:
-                nearest, found = lateral, (x, y, angle)
-        return found
-
-    def _other_side_point(self, obs: Observation) -> tuple[float, float]:
-        """Robot-frame point (x, y) m of the other side's echo (:meth:`_other_side_echo`) placed
-        on its cone's ray nearest to the perpendicular of the heading, not on its axis: a
-        sonar's nearest return from a wall parallel to the heading comes along that ray, so
-        beside such a wall the point is on the wall, where the axis point of a 45 deg sonar
-        sits 0.2 m too far ahead."""
-        x, y, angle = self._other_side_echo(obs)
-        s = obs.robot.sonar
-        k = int(np.argmin(np.abs(s.angles - angle)))
-        mx, my = float(s.offsets[k, 0]), float(s.offsets[k, 1])
-        r = math.hypot(x - mx, y - my)
-        ray = angle + max(-s.cone / 2, min(s.cone / 2, -self.side * math.pi / 2 - angle))
-        return mx + r * math.cos(ray), my + r * math.sin(ray)
-
-    def _passage_axis(self, obs: Observation, near: tuple[float, float]) -> float:
-        """World heading (rad) along a narrow passage between the followed boundary's nearest
-        point and the other side's echo (:meth:`_other_side_point`): at right angles to the line
-        joining them, the followed point on ``side``. Beside two parallel walls it is the
-        followed wall's tangent. At a gap whose sides are two convex corners, the followed
-        corner's tangent points across the gap, at the far corner, and the robot turned away
-        from the gap (class A, results/baselines/follow_s13); the axis leads through it."""
-        x, y, yaw = (float(q) for q in obs.pose)
-        dist, bearing = near
-        px, py = self._other_side_point(obs)
-        c, s = math.cos(yaw), math.sin(yaw)
-        other_x, other_y = x + c * px - s * py, y + s * px + c * py
-        near_x, near_y = x + dist * math.cos(bearing), y + dist * math.sin(bearing)
-        return math.atan2(near_y - other_y, near_x - other_x) - self.side * math.pi / 2
+            if -self.side * angle >= self.beside_sonars and -obs.robot.radius < x < self.front and lateral > 0.0:
+                nearest = min(nearest, lateral)
+        return nearest
 
     def _edge_echo_explained(self, obs: Observation, other: float) -> np.ndarray:
         """(K,) bool: sonars on the other side whose reading is within ``edge_slack`` of the
@@ -411,9 +376,7 @@ class WallFollower:
             return limit(0.6 * v, self.side * 0.6 * v / max(self.distance, 1e-3), robot)
         dist, bearing = near
         correction = max(-self.max_correction, min(self.max_correction, self.k_dist * (dist - target)))
-        corner_ahead = self.side * wrap_angle(bearing - float(obs.pose[2])) < math.pi / 2 - self.corner_lead
-        tangent = self._passage_axis(obs, near) if corner_ahead and math.isfinite(other) else bearing - self.side * math.pi / 2
-        heading = tangent + self.side * correction
+        heading = bearing - self.side * math.pi / 2 + self.side * correction
         return steer(obs, heading, 0.0 if ahead < front else v)
 
 
