@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from nav_bench.interface import RobotInfo
+from nav_bench.interface import Observation, RobotInfo
 from nav_bench.planners.follow import LEFT, RIGHT, WallFollower
 from nav_bench.testing.harness import BoxWorld, default_robot, observe
 
@@ -247,20 +247,73 @@ def test_a_follower_at_a_junction_of_narrow_gaps_stops_its_turn_on_a_way_out() -
     assert math.degrees(turned) < 1500.0  # it turns 2833 deg
 
 
-# ----------------------------------------------------------------------------- issue 12, twelfth session
-@pytest.mark.xfail(strict=True, reason="issue 12 dead band, open: main's follower stands (v = 0 on the "
-                   "tangent); the fixes gated in results/baselines/follow_s12 did not ship")
-def test_an_echo_ahead_farther_than_the_side_wall_is_driven_toward_not_stood_before() -> None:
+# ----------------------------------------------------------------------------- issue 12: the dead band
+DEAD_BAND_OPEN = pytest.mark.xfail(
+    strict=True, reason="issue 12 dead band, open: main's follower stands; driving through (follow_s12) and turning "
+    "(follow_s13, candidates A and B) were gated and did not ship")
+
+
+@DEAD_BAND_OPEN
+def test_an_echo_ahead_farther_than_the_side_wall_is_not_stood_before() -> None:
     """The dead band (results/baselines/follow_s12): with the followed wall 0.29 m beside and a
-    wall across the way 0.42 m ahead (heard 0.41 m ahead, farther than the side + ahead_slack),
-    the follower neither turns (the wall ahead is not the nearest boundary) nor drives (it is
-    within ``front``): v = 0 with the heading on the tangent, where the simulated robot stood
-    for a third of office_11's last 30 s. Driving on (at 0.4 m/s: 9cdeae7; at 0.1 m/s:
-    e53db44) passes this test; neither met the gate's ship criterion (contacts; Bug2's total)."""
+    wall across the way 0.42 m ahead (heard 0.41 m ahead, farther than the side + ahead_slack,
+    nearer than ``front``), main's follower neither turns nor drives: v = 0 on the tangent
+    (|omega| 0.21 rad/s from the distance correction), where the simulated robot stood for a
+    third of office_11's last 30 s. Driving on (follow_s12: 9cdeae7, e53db44) and turning on
+    the spot (follow_s13: candidate A) pass this test; none met the gate's ship criterion."""
     world = BoxWorld.room((6.0, 3.0), [(2.42, 0.0, 2.62, 3.0)])
     follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
-    obs = observe(world, np.array([2.0, 0.29, 0.0]), np.array([100.0, 100.0]), default_robot(), 0.0, DT, rays=7)
+    robot = default_robot()
+    obs = observe(world, np.array([2.0, 0.29, 0.0]), np.array([100.0, 100.0]), robot, 0.0, DT, rays=7)
     near = follower.nearest(obs)
     assert near is not None and near[0] == pytest.approx(0.29, abs=0.01)
     assert near[0] + follower.ahead_slack < follower._ahead(obs, math.inf) < follower.front
-    assert follower.act(obs).v > 0.05  # it creeps or drives on
+    cmd = follower.act(obs)
+    assert cmd.v >= 0.01 or abs(cmd.omega) >= 0.3  # it drives or turns
+
+
+def synthetic_observation(robot: RobotInfo, near: float, ahead: float, other: float, front: tuple[float, ...],
+                          t: float = 0.0) -> Observation:
+    """An observation at the origin heading +x, a right-hand follower's view: a wall ``near`` m
+    to the right of the centre (heard by the -90 and -45 deg sonars), one ``other`` m to the left
+    (+45, +90 deg; ``inf``: nothing), and an echo ``ahead`` m ahead of the centre on the axes of
+    the front sonars at the angles (deg) in ``front``; the other sonars hear nothing."""
+    s = robot.sonar
+    deg = np.degrees(s.angles)
+    r = np.full(len(deg), s.max_range)
+    for i, angle in enumerate(deg):
+        if angle < -30.0:  # the wall on the right, y = -near
+            r[i] = (near + s.offsets[i, 1]) / math.sin(-s.angles[i])
+        elif angle > 30.0 and math.isfinite(other):  # the wall on the left, y = other
+            r[i] = (other - s.offsets[i, 1]) / math.sin(s.angles[i])
+        elif any(abs(angle - f) < 1.0 for f in front):  # the echo ahead, at x = ahead on the axis
+            r[i] = (ahead - s.offsets[i, 0]) / math.cos(s.angles[i])
+    return Observation(t=t, pose=np.zeros(3), goal=np.array([100.0, 100.0]), ranges=np.minimum(r, s.max_range),
+                       robot=robot, bounds=(-5.0, -5.0, 5.0, 5.0), dt=DT)
+
+
+@DEAD_BAND_OPEN
+@pytest.mark.parametrize("heard_ahead_by", ["both", "followed side", "other side"])
+def test_every_reading_of_side_ahead_and_other_side_gets_a_command_that_moves_the_robot(
+        heard_ahead_by: str) -> None:
+    """No dead band: over a grid of the distances (from the centre) of the followed wall (near),
+    an echo ahead and the other side's wall, held for two cycles, every command turns
+    (|omega| >= 0.3 rad/s) or drives (v >= 0.01 m/s); the robot never stands. Main's follower
+    stands (v = 0, the heading on the tangent) wherever the echo ahead is nearer than ``front``
+    but farther than the side + ahead_slack: 7 of these 1960 cells in each case. A follower
+    with one rule for turning and driving passes it (candidates A and B of
+    results/baselines/follow_s13, whose section 3 has the proof)."""
+    robot = DIFFBOT_LIKE
+    front = {"both": (-15.0, 15.0), "followed side": (-15.0,), "other side": (15.0,)}[heard_ahead_by]
+    still = []
+    for near in np.arange(0.2, 0.62, 0.03):
+        for ahead in np.arange(0.2, 0.62, 0.03):
+            for other in (*np.arange(0.2, 0.62, 0.05), math.inf):
+                follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+                for cycle in range(2):
+                    cmd = follower.act(synthetic_observation(robot, near, ahead, other, front, cycle * DT))
+                    if cmd.v < 0.01 and abs(cmd.omega) < 0.3:
+                        still.append((round(near, 2), round(ahead, 2), round(other, 2), cycle))
+    assert still == []
+
+
