@@ -228,9 +228,14 @@ class _Mounts:
         x, y, yaw = np.asarray(pose, dtype=float)[:3].tolist()
         cy, sy = math.cos(yaw), math.sin(yaw)
         r = np.where(np.isfinite(ranges), np.minimum(ranges, sonar.max_range), sonar.max_range)
-        mx = x + cy * sonar.offsets[:, 0] - sy * sonar.offsets[:, 1]
-        my = y + sy * sonar.offsets[:, 0] + cy * sonar.offsets[:, 1]
-        return _Mounts(x, y, yaw, r, mx, my)
+        # mx = x + cy ox - sy oy and my = y + sy ox + cy oy as the rows of one (2, S) array (fewer
+        # NumPy calls, the same operations in the same order: y + sy ox - (-cy oy) is
+        # y + sy ox + cy oy exactly)
+        ox, oy = sonar.offsets[:, 0], sonar.offsets[:, 1]
+        m = np.multiply.outer((cy, sy), ox)
+        m += ((x,), (y,))
+        m -= np.multiply.outer((sy, -cy), oy)
+        return _Mounts(x, y, yaw, r, m[0], m[1])
 
     def see_through(self, qx: np.ndarray, qy: np.ndarray, part: float, sonar: SonarInfo) -> np.ndarray:
         """(K,) bool: which small squares (centres ``qx``, ``qy`` (K,), side ``part``, m) one
@@ -244,6 +249,19 @@ class _Mounts:
         inside = dx * ax[:, None] + dy * ay[:, None] >= d * math.cos(sonar.cone / 2)  # within the half angle
         inside &= d + part * math.sqrt(0.5) <= (self.r - CARVE_MARGIN)[:, None]  # the far corner nearer
         return np.logical_or.reduce(inside, axis=0)
+
+    def see_through_pairs(self, qx: np.ndarray, qy: np.ndarray, sonars: np.ndarray, part: float,
+                          sonar: SonarInfo) -> np.ndarray:
+        """(N, P) bool: does sonar ``sonars[i]`` see through small square ``j`` (centres ``qx``,
+        ``qy`` (N, P), side ``part``, m)? :meth:`see_through` of one sonar per row, the same
+        operations on the same values (each element's result is that sonar's row of it)."""
+        ax, ay = np.cos(self.yaw + sonar.angles), np.sin(self.yaw + sonar.angles)
+        dx = qx - self.mx.take(sonars)[:, None]
+        dy = qy - self.my.take(sonars)[:, None]
+        d = np.hypot(dx, dy)
+        inside = dx * ax.take(sonars)[:, None] + dy * ay.take(sonars)[:, None] >= d * math.cos(sonar.cone / 2)
+        inside &= d + part * math.sqrt(0.5) <= (self.r - CARVE_MARGIN).take(sonars)[:, None]
+        return inside
 
 
 def seen_through_cells(centres: np.ndarray, cell: float, pose: np.ndarray, ranges: np.ndarray,
@@ -274,10 +292,13 @@ def seen_through_cells(centres: np.ndarray, cell: float, pose: np.ndarray, range
     ang = np.minimum(ang, 2 * math.pi - ang)  # off the axis, [0, pi]
     spread = np.arcsin(np.minimum(reach / np.maximum(d, 1e-12), 1.0))
     facing = (d <= reach) | (ang <= sonar.cone / 2 + spread + 1e-6)
-    maybe = np.flatnonzero(np.logical_or.reduce(near & facing, axis=0))
-    if len(maybe):
-        pts = (cell_parts(c[maybe], cell) if parts is None else parts[maybe]).reshape(-1, 2)
-        out[maybe] = mounts.see_through(pts[:, 0], pts[:, 1], part, sonar).reshape(len(maybe), -1)
+    # each cell only against the sonars that may see through it (a cell lies in the cone of
+    # one or two of them): the part test costs per sonar and part (a hypot each)
+    sonars, cells = np.nonzero(near & facing)
+    if len(cells):
+        pts = cell_parts(c[cells], cell) if parts is None else parts[cells]  # (N, PARTS, 2)
+        hit, part_i = np.nonzero(mounts.see_through_pairs(pts[..., 0], pts[..., 1], sonars, part, sonar))
+        out[cells[hit], part_i] = True  # OR over the sonars of a cell
     return out
 
 
