@@ -21,7 +21,7 @@ import numpy as np
 
 from nav_bench.interface import Observation
 from nav_bench.mapping.grid import GridFrame
-from nav_bench.planners.footprint import CARVE_SUB, cell_parts, seen_through_cells
+from nav_bench.planners.footprint import CARVE_SUB, cell_parts, pose_floats, seen_through_cells
 
 VIEW_MOVE_M, VIEW_TURN_RAD = 0.03, math.radians(5.0)  # a new view for carving: moved or turned this much
 CARVE_MEMORY_S = 3.0  # s: a part seen through this recently stays carved
@@ -72,7 +72,7 @@ class SeeThroughCarving:
         self.seen_t = np.full(parts, -INF, dtype=np.float32)
         self.seen_view = np.full(parts, -1, dtype=np.int32)
         self.noted = np.zeros(frame.shape, dtype=bool)
-        self.view, self.view_pose = 0, _floats(pose)  # (x, y, yaw) of the view, m and rad
+        self.view, self.view_pose = 0, pose_floats(pose)  # (x, y, yaw) of the view, m and rad
 
     def update(self, obs: Observation, rows: np.ndarray, cols: np.ndarray,
                box: tuple[int, int, int, int], occupied_box: np.ndarray) -> CarvedCells:
@@ -82,7 +82,7 @@ class SeeThroughCarving:
         ``box`` = (row0, row1, col0, col1): the grid's rectangle looked at this cycle;
         ``occupied_box`` (row1 - row0, col1 - col0) bool, which of its cells are occupied now:
         a noted cell in the box that is no longer occupied forgets its records."""
-        self._next_view(_floats(obs.pose))
+        self._next_view(pose_floats(obs.pose))
         a0, a1, b0, b1 = box
         self._forget(a0, a1, b0, b1, occupied_box)
         # the records as one row of parts per cell, read and written by flat cell index (a
@@ -125,7 +125,7 @@ class SeeThroughCarving:
         """Record the parts this reading saw through, confirm those seen from another view
         within ``CARVE_MEMORY_S``, and carve the parts under the body (it stands there)."""
         pose = np.asarray(obs.pose, dtype=float)
-        x, y, _ = _floats(pose)
+        x, y, _ = pose_floats(pose)
         seen = seen_through_cells(centres, self.frame.cell, pose, np.asarray(obs.ranges, dtype=float),
                                   obs.robot.sonar, parts=parts)
         # only cells with a part seen through or under the body change their records (a part
@@ -147,9 +147,3 @@ class SeeThroughCarving:
         times[np.hypot(pa[..., 0] - x, pa[..., 1] - y) <= obs.robot.radius] = obs.t
         carved_rows[at], seen_rows[at], view_rows[at] = times, seen_at, views
 
-
-def _floats(pose: np.ndarray) -> tuple[float, float, float]:
-    """(x, y, yaw) of a pose, m and rad, as Python floats (the same values: the arithmetic on
-    them is the same IEEE operations as on float64 arrays, with less overhead per cycle)."""
-    x, y, yaw = np.asarray(pose, dtype=float)[:3].tolist()
-    return x, y, yaw

@@ -30,18 +30,12 @@ import numpy as np
 
 from nav_bench.interface import Command, Observation, StuckReason
 from nav_bench.planners.follow import echo_mask, limit
-from nav_bench.planners.footprint import Clearance, is_safe, rollout
+from nav_bench.planners.footprint import Clearance, is_safe, pose_floats, rollout
 
 CREEP_SHARE = 1.0 / 3.0  # of progress_m: a straight creep this long counts as progress
 CREEP_TRAVEL = 1.5  # odometry travel over displacement below which a creep is straight
 PINNED_CONE = math.radians(30.0)  # sonars within this of the direction of motion judge pinning
 BACKUP_CHECK_M = 0.1  # m: the back-up looks this far behind the robot on the map
-
-
-def _pose(obs: Observation) -> tuple[float, float, float]:
-    """The odometry pose (x, y, yaw), m and rad, as Python floats (the same values)."""
-    x, y, yaw = np.asarray(obs.pose, dtype=float)[:3].tolist()
-    return x, y, yaw
 
 
 def _goal(obs: Observation) -> tuple[float, float]:
@@ -103,7 +97,7 @@ class ProgressWatch:
 
     def restart(self, obs: Observation) -> None:
         """Count from now (after a recovery, or at the start of an episode)."""
-        x, y, _ = _pose(obs)
+        x, y, _ = pose_floats(obs.pose)
         gx, gy = _goal(obs)
         self.anchor, self.t_progress, self.travel = (x, y), obs.t, 0.0
         self.best_goal = float(np.hypot(gx - x, gy - y))
@@ -112,7 +106,7 @@ class ProgressWatch:
         self.pinned = False
 
     def update(self, obs: Observation) -> None:
-        pose = _pose(obs)
+        pose = pose_floats(obs.pose)
         x, y, _ = pose
         if self._last_xy is None:
             self.restart(obs)
