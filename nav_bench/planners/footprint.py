@@ -236,14 +236,9 @@ class _Mounts:
         x, y, yaw = pose_floats(pose)
         cy, sy = math.cos(yaw), math.sin(yaw)
         r = np.where(np.isfinite(ranges), np.minimum(ranges, sonar.max_range), sonar.max_range)
-        # mx = x + cy ox - sy oy and my = y + sy ox + cy oy as the rows of one (2, S) array (fewer
-        # NumPy calls, the same operations in the same order: y + sy ox - (-cy oy) is
-        # y + sy ox + cy oy exactly)
-        ox, oy = sonar.offsets[:, 0], sonar.offsets[:, 1]
-        m = np.multiply.outer((cy, sy), ox)
-        m += ((x,), (y,))
-        m -= np.multiply.outer((sy, -cy), oy)
-        return _Mounts(x, y, yaw, r, m[0], m[1])
+        mx = x + cy * sonar.offsets[:, 0] - sy * sonar.offsets[:, 1]
+        my = y + sy * sonar.offsets[:, 0] + cy * sonar.offsets[:, 1]
+        return _Mounts(x, y, yaw, r, mx, my)
 
     def see_through(self, qx: np.ndarray, qy: np.ndarray, part: float, sonar: SonarInfo) -> np.ndarray:
         """(K,) bool: which small squares (centres ``qx``, ``qy`` (K,), side ``part``, m) one
