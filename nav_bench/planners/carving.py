@@ -21,7 +21,7 @@ import numpy as np
 
 from nav_bench.interface import Observation
 from nav_bench.mapping.grid import GridFrame
-from nav_bench.planners.footprint import CARVE_SUB, cell_parts, seen_through_cells
+from nav_bench.planners.footprint import CARVE_SUB, cell_parts, pose_floats, seen_through_cells
 
 VIEW_MOVE_M, VIEW_TURN_RAD = 0.03, math.radians(5.0)  # a new view for carving: moved or turned this much
 CARVE_MEMORY_S = 3.0  # s: a part seen through this recently stays carved
@@ -72,7 +72,7 @@ class SeeThroughCarving:
         self.seen_t = np.full(parts, -INF, dtype=np.float32)
         self.seen_view = np.full(parts, -1, dtype=np.int32)
         self.noted = np.zeros(frame.shape, dtype=bool)
-        self.view, self.view_pose = 0, np.asarray(pose, dtype=float).copy()
+        self.view, self.view_pose = 0, pose_floats(pose)  # (x, y, yaw) of the view, m and rad
 
     def update(self, obs: Observation, rows: np.ndarray, cols: np.ndarray,
                box: tuple[int, int, int, int], occupied_box: np.ndarray) -> CarvedCells:
@@ -82,24 +82,26 @@ class SeeThroughCarving:
         ``box`` = (row0, row1, col0, col1): the grid's rectangle looked at this cycle;
         ``occupied_box`` (row1 - row0, col1 - col0) bool, which of its cells are occupied now:
         a noted cell in the box that is no longer occupied forgets its records."""
-        self._next_view(np.asarray(obs.pose, dtype=float))
+        self._next_view(pose_floats(obs.pose))
         a0, a1, b0, b1 = box
         self._forget(a0, a1, b0, b1, occupied_box)
-        self.noted[rows, cols] = True
         # the records as one row of parts per cell, read and written by flat cell index (a
         # gather of whole rows costs less than indexing by row and column)
         flat = rows * self.frame.cols + cols
+        self.noted.reshape(-1)[flat] = True
         centres = self._centres(rows, cols)
         parts = cell_parts(centres, self.frame.cell)  # (M, PARTS, 2)
         self._note(obs, flat, centres, parts)
         kept = self.carved_t.reshape(-1, PARTS)[flat] < obs.t - CARVE_MEMORY_S
         return CarvedCells(centres, parts, kept)
 
-    def _next_view(self, pose: np.ndarray) -> None:
-        if (np.hypot(*(pose[:2] - self.view_pose[:2])) >= VIEW_MOVE_M
-                or abs(math.remainder(float(pose[2] - self.view_pose[2]), 2 * math.pi)) >= VIEW_TURN_RAD):
+    def _next_view(self, pose: tuple[float, float, float]) -> None:
+        x, y, yaw = pose
+        vx, vy, vyaw = self.view_pose
+        if (np.hypot(x - vx, y - vy) >= VIEW_MOVE_M
+                or abs(math.remainder(yaw - vyaw, 2 * math.pi)) >= VIEW_TURN_RAD):
             self.view += 1
-            self.view_pose = pose.copy()
+            self.view_pose = pose
 
     def _forget(self, a0: int, a1: int, b0: int, b1: int, occupied_box: np.ndarray) -> None:
         """A cell the grid frees forgets its carving (cells never noted hold none)."""
@@ -123,11 +125,12 @@ class SeeThroughCarving:
         """Record the parts this reading saw through, confirm those seen from another view
         within ``CARVE_MEMORY_S``, and carve the parts under the body (it stands there)."""
         pose = np.asarray(obs.pose, dtype=float)
+        x, y, _ = pose_floats(pose)
         seen = seen_through_cells(centres, self.frame.cell, pose, np.asarray(obs.ranges, dtype=float),
                                   obs.robot.sonar, parts=parts)
         # only cells with a part seen through or under the body change their records (a part
         # is at most cell / sqrt 2 from its cell's centre)
-        under = (np.hypot(centres[:, 0] - pose[0], centres[:, 1] - pose[1])
+        under = (np.hypot(centres[:, 0] - x, centres[:, 1] - y)
                  <= obs.robot.radius + self.frame.cell * 0.75)
         act = np.flatnonzero(seen.any(axis=1) | under)
         if len(act) == 0:
@@ -141,5 +144,6 @@ class SeeThroughCarving:
         seen_at[seen] = obs.t
         views[seen] = self.view
         pa = parts[act]
-        times[np.hypot(pa[..., 0] - pose[0], pa[..., 1] - pose[1]) <= obs.robot.radius] = obs.t
+        times[np.hypot(pa[..., 0] - x, pa[..., 1] - y) <= obs.robot.radius] = obs.t
         carved_rows[at], seen_rows[at], view_rows[at] = times, seen_at, views
+

@@ -1154,8 +1154,11 @@ class DStarLite(Planner):
         fr += a0
         fc += b0
         m = self.pad
-        r0, r1 = max(fr.min() - m, 0), min(fr.max() + m + 1, h)
-        c0, c1 = max(fc.min() - m, 0), min(fc.max() + m + 1, w)
+        # the box round the flips, from Python ints (a few flips a cycle: four NumPy
+        # reductions cost more than min and max of short lists)
+        rows, cols = fr.tolist(), fc.tolist()
+        r0, r1 = max(min(rows) - m, 0), min(max(rows) + m + 1, h)
+        c0, c1 = max(min(cols) - m, 0), min(max(cols) + m + 1, w)
         dist = self.dist[r0:r1, c0:c1]  # distances can change only within cap (m cells) of a flip
         before = dist.copy()
         if freed.any():

@@ -166,6 +166,14 @@ class PointObstacles:
         return np.sqrt(d2)
 
 
+def pose_floats(pose: np.ndarray) -> tuple[float, float, float]:
+    """(x, y, yaw) of a pose, m and rad, as Python floats: the same values, and arithmetic on
+    them is the same IEEE operations as on float64 arrays, with less overhead per call (keep
+    NumPy for ``cos``, ``sin``, ``hypot``: Python's may round differently in the last bit)."""
+    x, y, yaw = np.asarray(pose, dtype=float)[:3].tolist()
+    return x, y, yaw
+
+
 CARVE_SUB = 5  # an occupied cell is checked as CARVE_SUB x CARVE_SUB small squares
 CARVE_MARGIN = 0.02  # m: a small square must lie this much nearer than a reading to be seen through
 
@@ -225,7 +233,7 @@ class _Mounts:
 
     @staticmethod
     def of(pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo) -> _Mounts:
-        x, y, yaw = np.asarray(pose, dtype=float)[:3].tolist()
+        x, y, yaw = pose_floats(pose)
         cy, sy = math.cos(yaw), math.sin(yaw)
         r = np.where(np.isfinite(ranges), np.minimum(ranges, sonar.max_range), sonar.max_range)
         mx = x + cy * sonar.offsets[:, 0] - sy * sonar.offsets[:, 1]
@@ -244,6 +252,19 @@ class _Mounts:
         inside = dx * ax[:, None] + dy * ay[:, None] >= d * math.cos(sonar.cone / 2)  # within the half angle
         inside &= d + part * math.sqrt(0.5) <= (self.r - CARVE_MARGIN)[:, None]  # the far corner nearer
         return np.logical_or.reduce(inside, axis=0)
+
+    def see_through_pairs(self, qx: np.ndarray, qy: np.ndarray, sonars: np.ndarray, part: float,
+                          sonar: SonarInfo) -> np.ndarray:
+        """(N, P) bool: does sonar ``sonars[i]`` see through small square ``j`` (centres ``qx``,
+        ``qy`` (N, P), side ``part``, m)? :meth:`see_through` of one sonar per row, the same
+        operations on the same values (each element's result is that sonar's row of it)."""
+        ax, ay = np.cos(self.yaw + sonar.angles), np.sin(self.yaw + sonar.angles)
+        dx = qx - self.mx.take(sonars)[:, None]
+        dy = qy - self.my.take(sonars)[:, None]
+        d = np.hypot(dx, dy)
+        inside = dx * ax.take(sonars)[:, None] + dy * ay.take(sonars)[:, None] >= d * math.cos(sonar.cone / 2)
+        inside &= d + part * math.sqrt(0.5) <= (self.r - CARVE_MARGIN).take(sonars)[:, None]
+        return inside
 
 
 def seen_through_cells(centres: np.ndarray, cell: float, pose: np.ndarray, ranges: np.ndarray,
@@ -274,10 +295,13 @@ def seen_through_cells(centres: np.ndarray, cell: float, pose: np.ndarray, range
     ang = np.minimum(ang, 2 * math.pi - ang)  # off the axis, [0, pi]
     spread = np.arcsin(np.minimum(reach / np.maximum(d, 1e-12), 1.0))
     facing = (d <= reach) | (ang <= sonar.cone / 2 + spread + 1e-6)
-    maybe = np.flatnonzero(np.logical_or.reduce(near & facing, axis=0))
-    if len(maybe):
-        pts = (cell_parts(c[maybe], cell) if parts is None else parts[maybe]).reshape(-1, 2)
-        out[maybe] = mounts.see_through(pts[:, 0], pts[:, 1], part, sonar).reshape(len(maybe), -1)
+    # each cell only against the sonars that may see through it (a cell lies in the cone of
+    # one or two of them): the part test costs per sonar and part (a hypot each)
+    sonars, cells = np.nonzero(near & facing)
+    if len(cells):
+        pts = cell_parts(c[cells], cell) if parts is None else parts[cells]  # (N, PARTS, 2)
+        hit, part_i = np.nonzero(mounts.see_through_pairs(pts[..., 0], pts[..., 1], sonars, part, sonar))
+        out[cells[hit], part_i] = True  # OR over the sonars of a cell
     return out
 
 

@@ -30,12 +30,18 @@ import numpy as np
 
 from nav_bench.interface import Command, Observation, StuckReason
 from nav_bench.planners.follow import echo_mask, limit
-from nav_bench.planners.footprint import Clearance, is_safe, rollout
+from nav_bench.planners.footprint import Clearance, is_safe, pose_floats, rollout
 
 CREEP_SHARE = 1.0 / 3.0  # of progress_m: a straight creep this long counts as progress
 CREEP_TRAVEL = 1.5  # odometry travel over displacement below which a creep is straight
 PINNED_CONE = math.radians(30.0)  # sonars within this of the direction of motion judge pinning
 BACKUP_CHECK_M = 0.1  # m: the back-up looks this far behind the robot on the map
+
+
+def _goal(obs: Observation) -> tuple[float, float]:
+    """The goal (x, y), m, as Python floats (the same values)."""
+    gx, gy = np.asarray(obs.goal, dtype=float)[:2].tolist()
+    return gx, gy
 
 
 class RecoveryPhase(str, Enum):
@@ -70,66 +76,77 @@ class RecoverySettings:
 
 
 class ProgressWatch:
-    """Time since the robot last made progress, and why not (pinned, oscillating)."""
+    """Time since the robot last made progress, and why not (pinned, oscillating).
+
+    Positions are kept as Python floats (m, rad): the bookkeeping of six sonars and one pose a
+    cycle costs less so than as small arrays, and the values are the same (a float64
+    subtraction is the same IEEE operation either way; distances still come from ``np.hypot``
+    and the sonar geometry from NumPy's ``cos``/``sin``, which a Python ``math`` function may
+    round differently in the last bit)."""
 
     def __init__(self, settings: RecoverySettings) -> None:
         self.s = settings
-        self.anchor = np.zeros(2)
+        self.anchor = (0.0, 0.0)  # (x, y) where the robot last made progress, m
         self.t_progress = 0.0
         self.best_goal = math.inf
         self.travel = 0.0  # odometry path length since the last progress, m
         self.pinned = False
-        self._history: deque[tuple[float, np.ndarray, np.ndarray]] = deque()
-        self._last_xy: np.ndarray | None = None
+        # (t, (x, y, yaw), ranges with NaN where no echo) over the last pinned_s
+        self._history: deque[tuple[float, tuple[float, float, float], np.ndarray]] = deque()
+        self._last_xy: tuple[float, float] | None = None
 
     def restart(self, obs: Observation) -> None:
         """Count from now (after a recovery, or at the start of an episode)."""
-        xy = np.asarray(obs.pose[:2], dtype=float)
-        self.anchor, self.t_progress, self.travel = xy.copy(), obs.t, 0.0
-        self.best_goal = float(np.hypot(*(np.asarray(obs.goal) - xy)))
+        x, y, _ = pose_floats(obs.pose)
+        gx, gy = _goal(obs)
+        self.anchor, self.t_progress, self.travel = (x, y), obs.t, 0.0
+        self.best_goal = float(np.hypot(gx - x, gy - y))
         self._history.clear()
-        self._last_xy = xy.copy()
+        self._last_xy = (x, y)
         self.pinned = False
 
     def update(self, obs: Observation) -> None:
-        xy = np.asarray(obs.pose[:2], dtype=float)
+        pose = pose_floats(obs.pose)
+        x, y, _ = pose
         if self._last_xy is None:
             self.restart(obs)
-        self.travel += float(np.hypot(*(xy - self._last_xy)))
-        self._last_xy = xy.copy()
+        lx, ly = self._last_xy
+        self.travel += float(np.hypot(x - lx, y - ly))
+        self._last_xy = (x, y)
         ranges = np.where(echo_mask(obs), np.asarray(obs.ranges, dtype=float), np.nan)
-        self._history.append((obs.t, np.asarray(obs.pose, dtype=float).copy(), ranges))
+        self._history.append((obs.t, pose, ranges))
         while self._history and self._history[0][0] < obs.t - self.s.pinned_s:
             self._history.popleft()
         self.pinned = self._pinned(obs)
         if self.pinned:
             return
-        to_goal = float(np.hypot(*(np.asarray(obs.goal) - xy)))
-        moved = float(np.hypot(*(xy - self.anchor)))
+        gx, gy = _goal(obs)
+        to_goal = float(np.hypot(gx - x, gy - y))
+        moved = float(np.hypot(x - self.anchor[0], y - self.anchor[1]))
         crept = (moved >= CREEP_SHARE * self.s.progress_m and self.travel <= CREEP_TRAVEL * moved
                  and obs.t - self.t_progress >= self.s.pinned_s)  # slow: the pinned test has had its window
         if moved >= self.s.progress_m or to_goal <= self.best_goal - self.s.progress_m or crept:
-            self.anchor, self.t_progress, self.travel = xy.copy(), obs.t, 0.0
+            self.anchor, self.t_progress, self.travel = (x, y), obs.t, 0.0
             self.best_goal = min(self.best_goal, to_goal)
 
     def _pinned(self, obs: Observation) -> bool:
         """Odometry moved >= 8 cm in the window, but the echoing sonars looking within
         ``PINNED_CONE`` of the direction of motion saw their ranges change by less than 30 % of
         what that displacement predicts along their axes."""
-        t0, pose0, r0 = self._history[0]
+        t0, (x0, y0, yaw0), r0 = self._history[0]
         if obs.t - t0 < 0.5 * self.s.pinned_s:
             return False
-        pose1, r1 = self._history[-1][1], self._history[-1][2]
-        shift = pose1[:2] - pose0[:2]
-        if float(np.hypot(*shift)) < 0.08:
+        (x1, y1, _), r1 = self._history[-1][1], self._history[-1][2]
+        sx, sy = x1 - x0, y1 - y0  # the shift, m
+        if float(np.hypot(sx, sy)) < 0.08:
             return False
         sonar = obs.robot.sonar
-        axes = pose0[2] + sonar.angles
-        predicted = -(shift[0] * np.cos(axes) + shift[1] * np.sin(axes))  # range change, m
+        axes = yaw0 + sonar.angles
+        predicted = -(sx * np.cos(axes) + sy * np.sin(axes))  # range change, m
         # only sonars looking along the motion: the range of one looking sideways at a wall the
         # robot drives along does not change however far it drives (a 45 deg sonar in a long
         # corridor called a robot cruising along a wall pinned, in the generated mazes)
-        along = np.abs(np.angle(np.exp(1j * (axes - math.atan2(shift[1], shift[0]))))) <= PINNED_CONE
+        along = np.abs(np.angle(np.exp(1j * (axes - math.atan2(sy, sx))))) <= PINNED_CONE
         seen = np.isfinite(r0) & np.isfinite(r1) & (np.abs(predicted) > 0.04) & along
         if not seen.any():
             return False
