@@ -87,6 +87,10 @@ def read_rows(folder: Path) -> dict[tuple[str, str, int], dict]:
 
 def report(before: dict, after: dict, rev: str) -> None:
     keys = sorted(set(before) & set(after))
+    if not keys:  # --worlds / --planners / --seeds pick from the suite's own jobs
+        print("error: no episode was played on both sides: --worlds, --planners and --seeds select "
+              "among the suite's jobs (its worlds, labels and seeds)", file=sys.stderr)
+        sys.exit(2)
     tb = sum(before[k]["bench_cpu_s"] for k in keys)
     ta = sum(after[k]["bench_cpu_s"] for k in keys)
     sb = sum(before[k]["time_s"] or 0.0 for k in keys)
