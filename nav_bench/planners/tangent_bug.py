@@ -378,14 +378,26 @@ class TangentBug(Planner):
         self.mode, self.side, self.acquired = FOLLOW, side, False
         self._blocking = blocking
         self.follower = self.followers[side]
-        self.d_followed = math.inf
-        self.d_followed_side = math.inf  # from the follower's nearest side echo only
-        self.strict_lap = False
         self.loop.side = side
-        self.loop.arm(xy, float(obs.pose[2]))
-        self.other_lap.arm(xy, float(obs.pose[2]), side)
+        self._begin_boundary(obs, xy, "follow_boundary")
+
+    def _begin_boundary(self, obs: Observation, xy: np.ndarray, reason: str) -> None:
+        """Following of a boundary begins at ``xy`` (m) on ``self.side``: its own ``d_followed``
+        (and ``d_followed_side``, from the follower's nearest side echo only) and laps, and a
+        ``replan`` event with ``reason``."""
+        self.d_followed = self.d_followed_side = math.inf
+        self.strict_lap = False
+        self._arm_laps(obs, xy)
         self._follow_starts.append([float(xy[0]), float(xy[1])])
-        self.emit("replan", obs.t, reason="follow_boundary", side="left" if side == LEFT else "right")
+        self._emit_replan(obs, reason)
+
+    def _arm_laps(self, obs: Observation, xy: np.ndarray) -> None:
+        """Count laps (round where following began, and round another boundary) from ``xy``."""
+        self.loop.arm(xy, float(obs.pose[2]))
+        self.other_lap.arm(xy, float(obs.pose[2]), self.side)
+
+    def _emit_replan(self, obs: Observation, reason: str) -> None:
+        self.emit("replan", obs.t, reason=reason, side="left" if self.side == LEFT else "right")
 
     def act(self, obs: Observation) -> Command:
         p = self.settings
@@ -439,7 +451,9 @@ class TangentBug(Planner):
         p = self.settings
         assert self.follower is not None
         if self.other_lap.update(xy, float(obs.pose[2])):
-            self._restart_following(obs, xy)
+            # the follower lapped a boundary other than the one following began on
+            # (:class:`OtherBoundaryLap`): following of this one begins here, on the same side
+            self._begin_boundary(obs, xy, "other_boundary")
         # near echoes ahead and on the followed side belong to the followed obstacle
         rel = self.side * obs.robot.sonar.angles
         near = np.asarray(obs.ranges) < p.wall_distance + 0.6
@@ -469,17 +483,6 @@ class TangentBug(Planner):
             return self._approach(obs, xy, v) or self.follower.act(obs)
         return self.follower.act(obs)
 
-    def _restart_following(self, obs: Observation, xy: np.ndarray) -> None:
-        """The follower lapped a boundary other than the one following began on
-        (:class:`OtherBoundaryLap`): following of this boundary begins here, on the same side,
-        with its own ``d_followed`` and laps (a ``replan`` event with ``reason="other_boundary"``)."""
-        self.d_followed = self.d_followed_side = math.inf
-        self.strict_lap = False
-        self.loop.arm(xy, float(obs.pose[2]))
-        self.other_lap.arm(xy, float(obs.pose[2]), self.side)
-        self._follow_starts.append([float(xy[0]), float(xy[1])])
-        self.emit("replan", obs.t, reason="other_boundary", side="left" if self.side == LEFT else "right")
-
     def _nearest_side_goal_distance(self, obs: Observation, xy: np.ndarray, goal: np.ndarray) -> float:
         """Goal distance (m) of the follower's nearest echo on the followed side (the boundary
         it keeps), ``inf`` if there is none."""
@@ -500,9 +503,8 @@ class TangentBug(Planner):
         a first lap closes the rule is unchanged: mazes are solved by it."""
         self.strict_lap = True
         self.d_followed = self.d_followed_side
-        self.loop.arm(xy, float(obs.pose[2]))
-        self.other_lap.arm(xy, float(obs.pose[2]), self.side)  # the lap just closed is this boundary's
-        self.emit("replan", obs.t, reason="strict_lap", side="left" if self.side == LEFT else "right")
+        self._arm_laps(obs, xy)  # the lap just closed went round this boundary
+        self._emit_replan(obs, "strict_lap")
 
     def _approach(self, obs: Observation, xy: np.ndarray, v: float) -> Command | None:
         """Head for the blocking obstacle's point (or the nearest remembered echo) until the

@@ -217,12 +217,13 @@ def centre_coordinates(frame: GridFrame) -> tuple[np.ndarray, np.ndarray]:
 
 def window_box(frame: GridFrame, xy: np.ndarray, radius: float) -> tuple[int, int, int, int]:
     """(row0, row1, col0, col1): the grid's square holding the disc of ``radius`` m round
-    ``xy`` (the robot's cell +- ``ceil(radius / cell) + 1``), clipped to the grid (may be
-    empty: row1 <= row0 or col1 <= col0)."""
+    ``xy`` (the robot's cell +- ``ceil(radius / cell) + 1``), clipped to the grid (empty,
+    row1 == row0 or col1 == col0, when the robot is far outside it)."""
     h, w = frame.shape
     r0, c0 = frame.cell_of(float(xy[0]), float(xy[1]))
     n = math.ceil(radius / frame.cell) + 1
-    return max(r0 - n, 0), min(r0 + n + 1, h), max(c0 - n, 0), min(c0 + n + 1, w)
+    rs, cs = max(r0 - n, 0), max(c0 - n, 0)
+    return rs, max(min(r0 + n + 1, h), rs), cs, max(min(c0 + n + 1, w), cs)
 
 
 def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
@@ -579,7 +580,6 @@ class VFHPlus(Planner):
         values = self.grid.values(copy=False)
         window = read_window(values, self.frame, xy, radius, self.settings.c_max)
         a0, a1, b0, b1 = window_box(self.frame, xy, radius)
-        a1, b1 = max(a1, a0), max(b1, b0)  # an empty box when the robot is far outside the grid
         carved = self.carving.update(obs, window.rows, window.cols, (a0, a1, b0, b1),
                                      values[a0:a1, b0:b1] > UNKNOWN)
         return window.carved(carved.kept, carved.parts, xy)
