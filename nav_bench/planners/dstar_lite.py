@@ -1121,11 +1121,6 @@ class DStarLite(Planner):
         carved = self._carving.update(obs, rr + a0, cc + b0, (a0, a1, b0, b1), window)
         return PointObstacles(carved.kept_parts(), cell / (2 * CARVE_SUB), cap, self.grid.bounds)
 
-    @property
-    def _carved_t(self) -> np.ndarray:
-        """(H, W, CARVE_SUB ** 2) when each part was last known free, s (the carving's record)."""
-        return self._carving.carved_t
-
     def _map_changes(self, robot_rc: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Cells whose cost changed since the last cycle (rows, cols, new costs).
 

@@ -217,10 +217,10 @@ def test_the_planner_carves_a_cell_seen_through_from_two_views_and_forgets_it_wh
     assert len(planner._local_clearance(obs_at(1.0, 0.1)).centres) == CARVE_SUB ** 2  # one view: kept
     assert len(planner._local_clearance(obs_at(1.0, 0.2)).centres) == CARVE_SUB ** 2  # the same view
     assert len(planner._local_clearance(obs_at(1.05, 0.3)).centres) == 0  # a second view: carved
-    assert np.isfinite(planner._carved_t[11, 15]).all()
+    assert np.isfinite(planner._carving.carved_t[11, 15]).all()
     planner.occupied[11, 15] = False  # the grid frees it: the carving is forgotten
     planner._local_clearance(obs_at(1.05, 0.4))
-    assert np.all(planner._carved_t[11, 15] == -np.inf)
+    assert np.all(planner._carving.carved_t[11, 15] == -np.inf)
     planner.occupied[11, 15] = True
     assert len(planner._local_clearance(obs_at(1.05, 0.5)).centres) == CARVE_SUB ** 2
 
