@@ -62,13 +62,11 @@ class SeeThroughCarving:
     box corner can poke between the rays of one cone (a cone's rays are a few degrees apart)
     and a ray grazing past it reads long, but not from two views. Remembered a few seconds,
     so that the obstacles do not flicker with the robot's heading; a cell the grid frees
-    forgets it. ``memory_s`` (s, default ``CARVE_MEMORY_S``) is how long a confirmed part stays
-    carved; the two views that confirm it must still fall within ``CARVE_MEMORY_S``.
+    forgets it.
     """
 
-    def __init__(self, frame: GridFrame, pose: np.ndarray, memory_s: float = CARVE_MEMORY_S) -> None:
+    def __init__(self, frame: GridFrame, pose: np.ndarray) -> None:
         self.frame = frame
-        self.memory_s = memory_s  # s: a confirmed part stays carved this long
         parts = (*frame.shape, PARTS)
         self.carved_t = np.full(parts, -INF, dtype=np.float32)
         self.seen_t = np.full(parts, -INF, dtype=np.float32)
@@ -94,7 +92,7 @@ class SeeThroughCarving:
         centres = self._centres(rows, cols)
         parts = cell_parts(centres, self.frame.cell)  # (M, PARTS, 2)
         self._note(obs, flat, centres, parts)
-        kept = self.carved_t.reshape(-1, PARTS)[flat] < obs.t - self.memory_s
+        kept = self.carved_t.reshape(-1, PARTS)[flat] < obs.t - CARVE_MEMORY_S
         return CarvedCells(centres, parts, kept)
 
     def _next_view(self, pose: tuple[float, float, float]) -> None:

@@ -502,8 +502,6 @@ class VFHPlus(Planner):
               minimum=0.0, maximum=180.0),
         Param("carve_seen_through", True, "-", "build the histogram from the parts of the grid's cells the "
               "sonars have not seen through from two views (nav_bench.planners.carving); false: whole cells"),
-        Param("carve_memory_s", 10.0, "s", "how long a part seen through from two views stays carved (D* Lite: "
-              "nav_bench.planners.carving.CARVE_MEMORY_S)", minimum=0.0),
     )
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
@@ -511,7 +509,7 @@ class VFHPlus(Planner):
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
         self.frame = GridFrame.from_bounds(self.grid.bounds, self.grid.cell)
-        self.carving = SeeThroughCarving(self.frame, obs.pose, memory_s=p.carve_memory_s)
+        self.carving = SeeThroughCarving(self.frame, obs.pose)
         self.n = max(4, round(360.0 / p.sector_deg))
         self.alpha = 2 * math.pi / self.n
         self.binary = np.zeros(self.n, dtype=bool)
