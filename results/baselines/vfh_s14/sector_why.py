@@ -1,7 +1,10 @@
 """What sums a sector of VFH+'s primary histogram: replay a trace through a fresh planner (this
 tree) up to time T and list the window's points (cells or kept parts) whose enlargement covers
 the sector toward DIR (deg, world), with their distance from the robot, magnitude and
-clearance from the TRUE obstacles (m; < 0 inside).
+clearance from the TRUE obstacles (m; < 0 inside); every sector's H^p and the part of it from
+points 0.03 m or more off the true obstacles; and how many of the kept parts covering the
+sector had been carved before and expired (carved longer ago than the carving's memory) rather
+than never seen through, with how long ago.
 PYTHONPATH=$PWD python results/baselines/vfh_s14/sector_why.py TRACE.npz T DIR
 """
 import math
@@ -12,7 +15,9 @@ import numpy as np
 sys.path.insert(0, "results/baselines/vfh_s12")
 from trace_replay import load
 
-from nav_bench.planners.vfh_plus import covered_sectors
+from nav_bench.planners.carving import PARTS
+from nav_bench.planners.footprint import cell_parts
+from nav_bench.planners.vfh_plus import covered_sectors, read_window
 from nav_bench.world.geometry import clearance, static_geometry
 from nav_bench.world.load import world_from_data
 
@@ -68,3 +73,24 @@ for kk in range(p.n):
     row.append(f"{kk * 5}:{tot:.0f}/{proud:.0f}{'' if p.masked[kk] else '*'}")
 print("sector:H^p/from points > 0.03 m off the true obstacles (* free in H^m):")
 print(" ".join(row))
+
+# the kept parts covering the sector: never carved, or carved and expired
+t = replay.t[i_at]
+win = read_window(p.grid.values(copy=False), p.frame, xy, s.window_radius, s.c_max)
+flat = win.rows * p.frame.cols + win.cols
+parts = cell_parts(np.stack([win.x, win.y], 1), p.frame.cell)  # (M, P, 2)
+ct = p.carving.carved_t.reshape(-1, PARTS)[flat]  # (M, P)
+mem = t - ct
+kept = mem > 3.0  # main's CARVE_MEMORY_S
+k = round(deg / 5) % p.n
+pts, when, cert = parts[kept], mem[kept], np.repeat(win.certainty[:, None], PARTS, 1)[kept]
+d_p = np.hypot(*(pts - xy).T)
+beta = np.arctan2(pts[:, 1] - xy[1], pts[:, 0] - xy[0])
+gamma = np.arcsin(np.minimum(1.0, 0.23 / np.maximum(d_p, 1e-6)))
+sec_p, idx = covered_sectors(beta, gamma, p.n)
+idx = idx[sec_p == k]
+mag_p = cert[idx] ** 2 * (1 + s.distance_weight * (s.window_radius ** 2 - d_p[idx] ** 2))
+never = ~np.isfinite(when[idx])
+print(f"t={t:.1f} sector {k * 5}: kept parts covering it {len(idx)}: never carved {never.sum()} "
+      f"(magnitude share {mag_p[never].sum() / max(mag_p.sum(), 1e-9):.2f}), carved and expired {(~never).sum()}; "
+      f"expired ago (s): {np.round(np.sort(when[idx][~never]), 1).tolist()[:20]}")
