@@ -68,9 +68,11 @@ A repair after which the path ahead differs from the previous one emits a ``repl
 
 from __future__ import annotations
 
+import functools
 import heapq
 import math
 from collections.abc import Iterable, Sequence
+from types import ModuleType
 from typing import Any, ClassVar
 
 import numpy as np
@@ -502,6 +504,17 @@ class DStarLiteSearch:
         else SciPy's Dijkstra on the reversed graph (:meth:`GridGraph.reverse_csr`). Both add
         the search's own terms (``g(v) + step * cost(v)``, one addition per step), so ``rhs``
         recomputed from the result equals it bit for bit: every cell is consistent."""
+        g, rhs = self._costs_to_go()
+        self.g = g.tolist()
+        self.rhs = rhs.tolist()
+        self.entry = [None] * len(self.g)
+        self.heap = []
+        self.settled = True
+
+    def _costs_to_go(self) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`plan_from_scratch`'s ``g`` and ``rhs`` as flat arrays: every inner cell's cost
+        to the goal (``inf`` on the frame; ``rhs`` the same but ``-inf`` on the frame and 0 at
+        the goal)."""
         graph = self.graph
         inner = np.frombuffer(graph.inner, dtype=np.uint8) == 1
         costs = graph.cost_array[inner]
@@ -514,13 +527,10 @@ class DStarLiteSearch:
 
             dist = dijkstra(graph.reverse_csr(), directed=True, indices=self.goal)
             dist[~inner] = INF
-        self.g = dist.tolist()
-        dist[~inner] = -INF
-        dist[self.goal] = 0.0
-        self.rhs = dist.tolist()
-        self.entry = [None] * len(self.g)
-        self.heap = []
-        self.settled = True
+        rhs = dist.copy()
+        rhs[~inner] = -INF
+        rhs[self.goal] = 0.0
+        return dist, rhs
 
     def move_start(self, rc: Sequence[int]) -> None:
         """The robot is now in cell ``rc`` (call :meth:`compute` afterwards).
@@ -631,6 +641,10 @@ class DStarLiteSearch:
         """Cost (cells) of the shortest path from the start to the goal; inf if none."""
         return self.rhs[self.start] if self.start != self.goal else 0.0
 
+    def queued(self) -> list[tuple[float, float, int]]:
+        """The queue's live entries ``(k1, k2, vertex)``, least first (for tests and tools)."""
+        return sorted(e for e in self.entry if e is not None)
+
     def path(self, max_len: int | None = None, join: dict[tuple[int, int], int] | None = None,
              tail: list[tuple[int, int]] | None = None) -> list[tuple[int, int]]:
         """Cells from the start to the goal by descending ``c + g``; [] if there is no path.
@@ -698,6 +712,149 @@ class DStarLiteSearch:
         return out
 
 
+SEARCH_KERNELS = ("auto", "python", "numba")  # choices of DStarLite's search_kernel
+
+
+@functools.cache
+def load_kernels() -> ModuleType | None:
+    """:mod:`nav_bench.planners.dstar_kernels`, or None when Numba cannot be imported (the
+    ``fast`` extra is not installed, or this Numba does not support this NumPy). Imported on
+    first use only (Numba's import takes ~0.3 s); remembered, as the import itself is."""
+    try:
+        from nav_bench.planners import dstar_kernels
+    except ImportError:
+        return None
+    return dstar_kernels
+
+
+def make_search(cost: np.ndarray, start: Sequence[int], goal: Sequence[int],
+                kernel: str = "python") -> DStarLiteSearch:
+    """A D* Lite search with the loops of ``kernel``: ``python`` (:class:`DStarLiteSearch`),
+    ``numba`` (:class:`CompiledSearch`; an :class:`~nav_bench.errors.InputError` without
+    Numba) or ``auto`` (numba when it can be imported, else python). Both give the same
+    ``g``, ``rhs``, expansions and paths, bit for bit."""
+    if kernel not in SEARCH_KERNELS:
+        raise InputError(f"search kernel must be one of {list(SEARCH_KERNELS)}, got {kernel!r}")
+    if kernel == "python":
+        return DStarLiteSearch(cost, start, goal)
+    kernels = load_kernels()
+    if kernels is None:
+        if kernel == "numba":
+            raise InputError("search_kernel 'numba' needs Numba: pip install 'nav-bench[fast]'")
+        return DStarLiteSearch(cost, start, goal)
+    return CompiledSearch(cost, start, goal, kernels)
+
+
+class CompiledSearch(DStarLiteSearch):
+    """:class:`DStarLiteSearch` with :meth:`compute`, :meth:`set_costs`' loop and
+    :meth:`descend` run by the Numba kernels of :mod:`nav_bench.planners.dstar_kernels` (the
+    same operations in the same order: the same results, bit for bit).
+
+    The state lives in NumPy arrays the kernels update in place: :attr:`g`, :attr:`rhs` and
+    ``graph.cost`` (which is ``graph.cost_array``) are float arrays instead of lists, and the
+    queue is an indexed binary heap (``_heap``, ``_pos``, ``_k1``, ``_k2``, ``_size``) instead
+    of ``heap``/``entry``: :meth:`queued` lists it. Use :func:`make_search` to get one.
+    """
+
+    def __init__(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int],
+                 kernels: ModuleType) -> None:
+        self._kernels = kernels
+        self.graph = graph = GridGraph(cost)
+        graph.cost = graph.cost_array  # type: ignore[assignment]  # one array both sides read
+        n = len(graph.cost_array)
+        self.g = np.full(n, INF)  # type: ignore[assignment]
+        self.rhs = np.full(n, INF)  # type: ignore[assignment]
+        self.rhs[graph.frame] = -INF
+        self._inner = np.frombuffer(graph.inner, dtype=np.uint8)
+        self._heap = np.zeros(n, dtype=np.int64)  # heap[:size[0]]: the queued vertices
+        self._pos = np.full(n, -1, dtype=np.int64)  # each vertex's place in the heap (-1: none)
+        self._k1, self._k2 = np.zeros(n), np.zeros(n)  # each queued vertex's key
+        self._size = np.zeros(1, dtype=np.int64)
+        self._scratch = np.zeros(n, dtype=np.int8)  # the kernels' marks, all 0 between calls
+        self._join = np.full(n, -1, dtype=np.int64)  # descend's join as an array, -1 between calls
+        self._no_join = np.zeros(0, dtype=np.int64)
+        self.km = 0.0
+        self.goal = graph.index(goal)
+        self.start = graph.index(start)
+        self.last = self.start
+        self.expansions = 0
+        self.touched: list[int] | None = None
+        self.steps = 0
+        self.settled = False
+        self.rhs[self.goal] = 0.0
+        self._update_vertex(self.goal)
+
+    def _queue(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        return self._heap, self._pos, self._k1, self._k2, self._size
+
+    def _update_vertex(self, u: int) -> None:
+        self._kernels.update_vertex(self.g, self.rhs, *self._queue(), u, self.start,
+                                    self.graph.width, self.km)
+
+    def _recompute_rhs(self, s: int) -> float:
+        return float(self._kernels.recompute_rhs(self.graph.cost_array, self.g, self.graph.width, s))
+
+    def compute(self, max_expansions: int | None = None) -> int:
+        budget = -1 if max_expansions is None else int(max_expansions)
+        done, steps, settled, touched = self._kernels.compute(
+            self.g, self.rhs, self.graph.cost_array, *self._queue(), self.start, self.graph.width,
+            self.km, budget)
+        self.settled = bool(settled)
+        if self.touched is not None:
+            self.touched.extend(touched.tolist())
+        self.expansions += done
+        self.steps += steps
+        return int(done)
+
+    def plan_from_scratch(self) -> None:
+        self.g, self.rhs = self._costs_to_go()  # type: ignore[assignment]
+        self._pos[:] = -1
+        self._size[0] = 0
+        self.settled = True
+
+    def set_costs(self, rows: Iterable[int], cols: Iterable[int], values: Iterable[float]) -> int:
+        graph = self.graph
+        w = graph.width
+        flat = np.ascontiguousarray(
+            ((np.asarray(rows, dtype=np.int64) + 1) * w + np.asarray(cols, dtype=np.int64) + 1).reshape(-1))
+        vals = np.ascontiguousarray(np.asarray(values, dtype=float).reshape(-1))
+        if len(flat) != len(vals):
+            raise ValueError(f"{len(flat)} cells but {len(vals)} costs")
+        km = self.km + graph.octile(self.last, self.start)  # km's growth, if anything changes
+        changed = self._kernels.set_costs(flat, vals, graph.cost_array, self.g, self.rhs, self._inner,
+                                          *self._queue(), self._scratch, w, self.goal, self.start, km)
+        if not len(changed):
+            return 0
+        if self.touched is not None:
+            self.touched.extend(changed.tolist())
+        self.km, self.last = km, self.start
+        return len(changed)
+
+    @property
+    def path_cost(self) -> float:
+        return float(self.rhs[self.start]) if self.start != self.goal else 0.0
+
+    def queued(self) -> list[tuple[float, float, int]]:
+        heap = self._heap[:self._size[0]].tolist()
+        return sorted((float(self._k1[u]), float(self._k2[u]), u) for u in heap)
+
+    def descend(self, max_len: int | None = None, join: dict[int, int] | None = None,
+                after: int = -1) -> list[int]:
+        if self.path_cost == INF:
+            return []
+        graph, index = self.graph, self._join
+        keys = np.fromiter(join.keys(), dtype=np.int64, count=len(join)) if join else self._no_join
+        if len(keys):
+            index[keys] = np.fromiter(join.values(), dtype=np.int64, count=len(keys))
+        try:
+            out = self._kernels.descend(graph.cost_array, self.g, graph.width, self.start, self.goal,
+                                        max_len or len(self.g), index if len(keys) else self._no_join,
+                                        after, self._scratch)
+        finally:
+            index[keys] = -1
+        return out.tolist()
+
+
 def astar(cost: np.ndarray, start: Sequence[int], goal: Sequence[int]
           ) -> tuple[float, list[tuple[int, int]]]:
     """A* from scratch on the same graph as :class:`DStarLiteSearch` (octile heuristic).
@@ -755,20 +912,21 @@ class PathRepair:
     path's steps after the last one next to such a cell are still the descent, so the new
     path descends from the robot only until it meets the old one beyond that point. With
     ``scratch`` (the default) the first plan and every :meth:`restart` are
-    :meth:`DStarLiteSearch.plan_from_scratch`.
+    :meth:`DStarLiteSearch.plan_from_scratch`. ``kernel`` chooses the search's loops
+    (:func:`make_search`: python, numba or auto).
     """
 
     def __init__(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int],
                  budget: int = 0, keep: int = 30, lethal: float = INF, prefix: int = 0,
-                 scratch: bool = True) -> None:
+                 scratch: bool = True, kernel: str = "python") -> None:
         self.budget, self.keep, self.lethal, self.prefix = budget, keep, lethal, prefix
-        self.scratch = scratch
+        self.scratch, self.kernel = scratch, kernel
         self.version = 0  # counts path extractions
         self._new_search(cost, start, goal)
         self.cycle(tuple(start))
 
     def _new_search(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int]) -> None:
-        self.search = DStarLiteSearch(cost, start, goal)
+        self.search = make_search(cost, start, goal, self.kernel)
         if self.scratch:
             self.search.plan_from_scratch()
         self.search.touched = []
@@ -948,6 +1106,10 @@ class DStarLite(Planner):
               "as the 4th power to 1 at radius + passage_margin + inflation_margin", minimum=1.0),
         Param("expansions_per_cycle", 250, "-", "D* Lite expansions per control cycle; an unfinished "
               "repair continues next cycle (0: unlimited)", minimum=0),
+        # the same rows either way (tests/planners/test_dstar_kernels.py); numba: ~3x less CPU per repair
+        Param("search_kernel", "auto", "-", "the search's loops: 'numba' compiled (the optional 'fast' "
+              "extra), 'python', or 'auto' (numba when it can be imported); the results are the same",
+              choices=SEARCH_KERNELS),
         Param("lookahead", 0.5, "m", "pure-pursuit lookahead distance along the path", minimum=0.05),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the path is farther off the heading",
               minimum=0.0, maximum=180.0),
@@ -1033,7 +1195,7 @@ class DStarLite(Planner):
         self.goal_xy = np.asarray(obs.goal, dtype=float)
         start = self._clamp(self.grid.world_to_cell(obs.pose[:2]))
         self.repair = PathRepair(self.cost, start, self.goal_rc, budget=p.expansions_per_cycle,
-                                 lethal=p.inflated_cost, prefix=PATH_PREFIX)
+                                 lethal=p.inflated_cost, prefix=PATH_PREFIX, kernel=p.search_kernel)
         self._path_id = -1
         self._xy_full = np.zeros((0, 2))
         self._refresh_xy()
