@@ -51,9 +51,9 @@ from pydantic import Field, PositiveFloat
 from nav_bench.episode.protocol import PROTOCOLS, make_protocol, protocol_of
 from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.errors import InputError, SpecError, SpecErrors, UnknownNameError, format_key_path
-from nav_bench.ids import params_id, robot_id, stable_id
+from nav_bench.ids import robot_id, stable_id
 from nav_bench.paths import project_file, project_roots
-from nav_bench.planners.registry import check_params, load_planner_set, parse_planner_arg
+from nav_bench.planners.registry import check_params, load_planner_set, parse_planner_arg, set_id
 from nav_bench.specs import (
     PlannerSetSpec,
     RobotSpec,
@@ -616,7 +616,7 @@ def _planners(entries: dict[str, Any], resolver: _Resolver, file: str | None,
                 raise _err(f"label {item_label!r} is used twice", file, index, loc)
             labels.add(item_label)
             items.append(PlannerItem(label=item_label, spec=spec, params=full,
-                                     params_id=params_id(spec.planner, full)))
+                                     params_id=set_id(spec.planner, full)))
     return items
 
 

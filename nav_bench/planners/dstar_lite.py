@@ -1109,7 +1109,7 @@ class DStarLite(Planner):
         # the same rows either way (tests/planners/test_dstar_kernels.py); numba: ~3x less CPU per repair
         Param("search_kernel", "auto", "-", "the search's loops: 'numba' compiled (the optional 'fast' "
               "extra), 'python', or 'auto' (numba when it can be imported); the results are the same",
-              choices=SEARCH_KERNELS),
+              choices=SEARCH_KERNELS, neutral=True),
         Param("lookahead", 0.5, "m", "pure-pursuit lookahead distance along the path", minimum=0.05),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the path is farther off the heading",
               minimum=0.0, maximum=180.0),
