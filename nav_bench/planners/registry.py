@@ -215,10 +215,17 @@ def full_params(spec: PlannerSetSpec, registry: PlannerRegistry | None = None) -
     return resolve_params(cls, spec.params)
 
 
-def set_id(planner: str, params: dict[str, Any], registry: PlannerRegistry | None = None) -> str:
-    """The id of a full parameter set (:func:`~nav_bench.ids.params_id`) without the planner's
-    neutral parameters (:attr:`Param.neutral`: they change how it computes, not what), so
+def identity_params(planner: str, params: dict[str, Any],
+                    registry: PlannerRegistry | None = None) -> dict[str, Any]:
+    """``params`` without the planner's neutral parameters (:attr:`Param.neutral`: they change
+    how it computes, not what): the part the ids of a parameter set and of its jobs hash, so
     that adding or changing one changes no episode's id or random stream."""
     cls = (registry or default_registry()).get(planner)
     neutral = {p.name for p in cls.params if p.neutral}
-    return params_id(planner, {k: v for k, v in params.items() if k not in neutral})
+    return {k: v for k, v in params.items() if k not in neutral}
+
+
+def set_id(planner: str, params: dict[str, Any], registry: PlannerRegistry | None = None) -> str:
+    """The id of a full parameter set (:func:`~nav_bench.ids.params_id`) of its
+    :func:`identity_params`."""
+    return params_id(planner, identity_params(planner, params, registry))
