@@ -16,14 +16,17 @@ vertices, ``pos[u]`` is ``u``'s place in it (-1: not queued), ``k1[u]``, ``k2[u]
 Python search keeps a ``heapq`` with lazy deletion; both pop the queued vertex with the least
 ``(k1, k2, u)``, and a vertex is queued at most once, so they pop in the same order.
 
-Imported only when a search chooses the kernel (importing Numba takes ~0.3 s); compiled
-functions are cached on disk (``cache=True``: in ``__pycache__`` beside this file, or in
-``NUMBA_CACHE_DIR``; where neither is writable Numba compiles in each process).
+Imported only when a search chooses the kernel (importing Numba takes ~0.3 s). The compiled
+functions are cached on disk (``cache=True``): in ``__pycache__`` beside this file, else in
+the user's cache folder (``~/.cache/numba``), or in ``NUMBA_CACHE_DIR`` if set; where none is
+writable they are compiled in each process instead (:func:`_kernel`).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from numba import njit
@@ -34,8 +37,21 @@ _Q = 1.5 * 2.0 ** 23  # as in dstar_lite: (x + _Q) - _Q rounds x >= 0 to a multi
 _K = SQRT2 - 2.0  # octile distance: dr + dc + _K * min(dr, dc)
 
 
+def _kernel(**options: Any) -> Callable[[Callable[..., Any]], Any]:
+    """``numba.njit`` with an on-disk cache, or without one where Numba finds no writable
+    cache folder (it raises at decoration then: a read-only install with no writable home)."""
+
+    def compile_(fn: Callable[..., Any]) -> Any:
+        try:
+            return njit(cache=True, **options)(fn)
+        except RuntimeError:  # "cannot cache function ...: no locator available"
+            return njit(cache=False, **options)(fn)
+
+    return compile_
+
+
 # -- the indexed heap ----------------------------------------------------------------------------
-@njit(cache=True, inline="always")
+@_kernel(inline="always")
 def _before(k1: np.ndarray, k2: np.ndarray, a: int, b: int) -> bool:
     """Does vertex ``a``'s key (k1, k2, a) come before ``b``'s (tuple order, as heapq's)?"""
     if k1[a] != k1[b]:
@@ -45,7 +61,7 @@ def _before(k1: np.ndarray, k2: np.ndarray, a: int, b: int) -> bool:
     return a < b
 
 
-@njit(cache=True)
+@_kernel()
 def _sift_up(heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarray, i: int) -> None:
     u = heap[i]
     while i > 0:
@@ -60,7 +76,7 @@ def _sift_up(heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarray, 
     pos[u] = i
 
 
-@njit(cache=True)
+@_kernel()
 def _sift_down(heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarray, size: int,
                i: int) -> None:
     u = heap[i]
@@ -80,7 +96,7 @@ def _sift_down(heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarray
     pos[u] = i
 
 
-@njit(cache=True)
+@_kernel()
 def queue_set(heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarray, size: np.ndarray,
               u: int, n1: float, n2: float) -> None:
     """Queue ``u`` with key (n1, n2), or move it there if it is queued."""
@@ -96,7 +112,7 @@ def queue_set(heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarray,
     _sift_down(heap, pos, k1, k2, size[0], pos[u])
 
 
-@njit(cache=True)
+@_kernel()
 def queue_remove(heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarray,
                  size: np.ndarray, u: int) -> None:
     """Take ``u`` out of the queue (nothing if it is not queued)."""
@@ -116,7 +132,7 @@ def queue_remove(heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarr
 
 
 # -- D* Lite's pieces ----------------------------------------------------------------------------
-@njit(cache=True, inline="always")
+@_kernel(inline="always")
 def _key1(m: float, u: int, sr: int, sc: int, w: int, km: float) -> float:
     """k1 = (m + h + km) rounded, h the octile distance from the start (as ``_queue_key``)."""
     dr, dc = u // w - sr, u % w - sc
@@ -124,7 +140,7 @@ def _key1(m: float, u: int, sr: int, sc: int, w: int, km: float) -> float:
     return (m + (dr + dc + _K * (dr if dr < dc else dc)) + km + _Q) - _Q
 
 
-@njit(cache=True)
+@_kernel()
 def recompute_rhs(cost: np.ndarray, g: np.ndarray, w: int, s: int) -> float:
     """min over the successors ``v`` of c(s, v) + g(v), in ``_recompute_rhs``'s order."""
     right, up, left, down = cost[s + 1], cost[s + w], cost[s - 1], cost[s - w]
@@ -159,7 +175,7 @@ def recompute_rhs(cost: np.ndarray, g: np.ndarray, w: int, s: int) -> float:
     return best
 
 
-@njit(cache=True)
+@_kernel()
 def update_vertex(g: np.ndarray, rhs: np.ndarray, heap: np.ndarray, pos: np.ndarray,
                   k1: np.ndarray, k2: np.ndarray, size: np.ndarray, u: int, start: int, w: int,
                   km: float) -> None:
@@ -172,7 +188,7 @@ def update_vertex(g: np.ndarray, rhs: np.ndarray, heap: np.ndarray, pos: np.ndar
     queue_set(heap, pos, k1, k2, size, u, _key1(m, u, start // w, start % w, w, km), (m + _Q) - _Q)
 
 
-@njit(cache=True)
+@_kernel()
 def _lower(g: np.ndarray, rhs: np.ndarray, heap: np.ndarray, pos: np.ndarray, k1: np.ndarray,
            k2: np.ndarray, size: np.ndarray, s: int, val: float, sr: int, sc: int, w: int,
            km: float) -> None:
@@ -186,7 +202,7 @@ def _lower(g: np.ndarray, rhs: np.ndarray, heap: np.ndarray, pos: np.ndarray, k1
     queue_set(heap, pos, k1, k2, size, s, _key1(m, s, sr, sc, w, km), (m + _Q) - _Q)
 
 
-@njit(cache=True)
+@_kernel()
 def _raise(cost: np.ndarray, g: np.ndarray, rhs: np.ndarray, heap: np.ndarray, pos: np.ndarray,
            k1: np.ndarray, k2: np.ndarray, size: np.ndarray, s: int, val: float, start: int, w: int,
            km: float) -> None:
@@ -196,7 +212,7 @@ def _raise(cost: np.ndarray, g: np.ndarray, rhs: np.ndarray, heap: np.ndarray, p
         update_vertex(g, rhs, heap, pos, k1, k2, size, s, start, w, km)
 
 
-@njit(cache=True)
+@_kernel()
 def compute(g: np.ndarray, rhs: np.ndarray, cost: np.ndarray, heap: np.ndarray, pos: np.ndarray,
             k1: np.ndarray, k2: np.ndarray, size: np.ndarray, start: int, w: int, km: float,
             budget: int) -> tuple[int, int, bool, np.ndarray]:
@@ -290,7 +306,7 @@ def compute(g: np.ndarray, rhs: np.ndarray, cost: np.ndarray, heap: np.ndarray, 
 _FULL, _LOWERED = 1, 2  # marks of set_costs: rhs recomputed from all successors / lowered in place
 
 
-@njit(cache=True)
+@_kernel()
 def _mark(mark: np.ndarray, marked: np.ndarray, count: int, s: int, kind: int) -> int:
     """Add ``s`` to the set ``kind`` (a bit of ``mark[s]``); returns the new count of ``marked``."""
     if mark[s] == 0:
@@ -300,7 +316,7 @@ def _mark(mark: np.ndarray, marked: np.ndarray, count: int, s: int, kind: int) -
     return count
 
 
-@njit(cache=True)
+@_kernel()
 def set_costs(flat: np.ndarray, values: np.ndarray, cost: np.ndarray, g: np.ndarray, rhs: np.ndarray,
               inner: np.ndarray, heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarray,
               size: np.ndarray, mark: np.ndarray, w: int, goal: int, start: int,
@@ -387,7 +403,7 @@ def set_costs(flat: np.ndarray, values: np.ndarray, cost: np.ndarray, g: np.ndar
     return changed[:nc]
 
 
-@njit(cache=True)
+@_kernel()
 def descend(cost: np.ndarray, g: np.ndarray, w: int, start: int, goal: int, limit: int,
             index: np.ndarray, after: int, seen: np.ndarray) -> np.ndarray:
     """``DStarLiteSearch.descend``: flat indices from the start by descending c + g, the first

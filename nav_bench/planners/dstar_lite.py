@@ -737,12 +737,9 @@ def make_search(cost: np.ndarray, start: Sequence[int], goal: Sequence[int],
         raise InputError(f"search kernel must be one of {list(SEARCH_KERNELS)}, got {kernel!r}")
     if kernel == "python":
         return DStarLiteSearch(cost, start, goal)
-    kernels = load_kernels()
-    if kernels is None:
-        if kernel == "numba":
-            raise InputError("search_kernel 'numba' needs Numba: pip install 'nav-bench[fast]'")
+    if kernel == "auto" and load_kernels() is None:
         return DStarLiteSearch(cost, start, goal)
-    return CompiledSearch(cost, start, goal, kernels)
+    return CompiledSearch(cost, start, goal)
 
 
 class CompiledSearch(DStarLiteSearch):
@@ -753,12 +750,13 @@ class CompiledSearch(DStarLiteSearch):
     The state lives in NumPy arrays the kernels update in place: :attr:`g`, :attr:`rhs` and
     ``graph.cost`` (which is ``graph.cost_array``) are float arrays instead of lists, and the
     queue is an indexed binary heap (``_heap``, ``_pos``, ``_k1``, ``_k2``, ``_size``) instead
-    of ``heap``/``entry``: :meth:`queued` lists it. Use :func:`make_search` to get one.
+    of ``heap``/``entry``: :meth:`queued` lists it. Without Numba: an
+    :class:`~nav_bench.errors.InputError`.
     """
 
-    def __init__(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int],
-                 kernels: ModuleType) -> None:
-        self._kernels = kernels
+    def __init__(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int]) -> None:
+        if load_kernels() is None:
+            raise InputError("search_kernel 'numba' needs Numba: pip install 'nav-bench[fast]'")
         self.graph = graph = GridGraph(cost)
         graph.cost = graph.cost_array  # type: ignore[assignment]  # one array both sides read
         n = len(graph.cost_array)
@@ -783,6 +781,11 @@ class CompiledSearch(DStarLiteSearch):
         self.settled = False
         self.rhs[self.goal] = 0.0
         self._update_vertex(self.goal)
+
+    @property
+    def _kernels(self) -> ModuleType:
+        """:mod:`nav_bench.planners.dstar_kernels` (looked up, not kept: a search pickles)."""
+        return load_kernels()  # type: ignore[return-value]
 
     def _queue(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         return self._heap, self._pos, self._k1, self._k2, self._size

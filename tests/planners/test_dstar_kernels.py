@@ -5,6 +5,7 @@ cycles of random cost changes, lethal cells, budgets and start moves. Skipped wi
 from __future__ import annotations
 
 import math
+import pickle
 
 import numpy as np
 import pytest
@@ -151,6 +152,20 @@ def test_the_planner_chooses_its_kernel_per_instance() -> None:
     assert type(make_search(cost, (0, 0), (4, 4), "python")) is DStarLiteSearch
     with pytest.raises(InputError):
         make_search(cost, (0, 0), (4, 4), "fortran")
+
+
+@needs_numba
+def test_a_compiled_search_pickles_mid_repair() -> None:
+    cost = np.ones((30, 40))
+    search = make_search(cost, (2, 2), (27, 37), "numba")
+    search.compute()
+    search.set_costs(np.arange(5, 25), np.full(20, 20), np.full(20, INF))
+    search.compute(15)  # unfinished: the queue is not empty
+    copy = pickle.loads(pickle.dumps(search))
+    assert_same_state(search, copy)
+    assert search.compute() == copy.compute() > 0
+    assert_same_state(search, copy)
+    assert copy.path() == search.path() != []
 
 
 def test_without_numba_auto_is_python(monkeypatch: pytest.MonkeyPatch) -> None:
