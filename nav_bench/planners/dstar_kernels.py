@@ -3,8 +3,9 @@
 Reference: S. Koenig and M. Likhachev, "D* Lite", AAAI-02, pp. 476-483, 2002: the optimised
 version (Fig. 4) with the basic version's full ``rhs`` recomputation for vertices whose edges
 changed, as :class:`nav_bench.planners.dstar_lite.DStarLiteSearch` writes it in Python. These
-functions are that class's ``compute`` (ComputeShortestPath), the per-cell loop of
-``set_costs`` and ``descend``, statement for statement: the same IEEE operations in the same
+functions are that class's ``compute`` (ComputeShortestPath) and the per-cell loop of
+``set_costs``, statement for statement, and :mod:`~nav_bench.planners.dstar_loops`' functions
+(``recompute_rhs``, ``descend``: one source for both) compiled: the same IEEE operations in the same
 order (Numba uses no fast-math unless asked, and these functions do not ask), so ``g``,
 ``rhs``, the keys, the expansions and the paths are the Python code's bit for bit.
 :class:`nav_bench.planners.dstar_lite.CompiledSearch` holds the state they work on.
@@ -24,17 +25,14 @@ writable they are compiled in each process instead (:func:`_kernel`).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 from numba import njit
 
-INF = math.inf
-SQRT2 = math.sqrt(2.0)
-_Q = 1.5 * 2.0 ** 23  # as in dstar_lite: (x + _Q) - _Q rounds x >= 0 to a multiple of 2**-29
-_K = SQRT2 - 2.0  # octile distance: dr + dc + _K * min(dr, dc)
+from nav_bench.planners import dstar_loops as loops
+from nav_bench.planners.dstar_loops import _K, _Q, INF, SQRT2
 
 
 def _kernel(**options: Any) -> Callable[[Callable[..., Any]], Any]:
@@ -62,35 +60,23 @@ def _before(k1: np.ndarray, k2: np.ndarray, a: int, b: int) -> bool:
 
 
 @_kernel()
-def _sift_up(heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarray, i: int) -> None:
+def _sift(heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarray, size: int,
+          i: int) -> None:
+    """Move the vertex at ``heap[i]`` up toward the root while it comes before its parent, else
+    down while a child comes before it (a vertex that moved up is before all below it)."""
     u = heap[i]
-    while i > 0:
-        parent = (i - 1) >> 1
-        p = heap[parent]
-        if not _before(k1, k2, u, p):
-            break
-        heap[i] = p
-        pos[p] = i
-        i = parent
-    heap[i] = u
-    pos[u] = i
-
-
-@_kernel()
-def _sift_down(heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarray, size: int,
-               i: int) -> None:
-    u = heap[i]
+    while i > 0 and _before(k1, k2, u, heap[(i - 1) >> 1]):
+        heap[i] = heap[(i - 1) >> 1]
+        pos[heap[i]] = i
+        i = (i - 1) >> 1
     while True:
         child = 2 * i + 1
-        if child >= size:
-            break
         if child + 1 < size and _before(k1, k2, heap[child + 1], heap[child]):
             child += 1
-        c = heap[child]
-        if not _before(k1, k2, c, u):
+        if child >= size or not _before(k1, k2, heap[child], u):
             break
-        heap[i] = c
-        pos[c] = i
+        heap[i] = heap[child]
+        pos[heap[i]] = i
         i = child
     heap[i] = u
     pos[u] = i
@@ -102,14 +88,11 @@ def queue_set(heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarray,
     """Queue ``u`` with key (n1, n2), or move it there if it is queued."""
     k1[u], k2[u] = n1, n2
     i = pos[u]
-    if i < 0:
+    if i < 0:  # a new leaf
         i = size[0]
         size[0] += 1
         heap[i] = u
-        _sift_up(heap, pos, k1, k2, i)
-        return
-    _sift_up(heap, pos, k1, k2, i)
-    _sift_down(heap, pos, k1, k2, size[0], pos[u])
+    _sift(heap, pos, k1, k2, size[0], i)
 
 
 @_kernel()
@@ -124,11 +107,8 @@ def queue_remove(heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarr
     last = size[0]
     if i == last:
         return
-    x = heap[last]  # the last vertex fills the hole, then moves up or down to its place
-    heap[i] = x
-    pos[x] = i
-    _sift_up(heap, pos, k1, k2, i)
-    _sift_down(heap, pos, k1, k2, last, pos[x])
+    heap[i] = heap[last]  # the last vertex fills the hole, then moves up or down to its place
+    _sift(heap, pos, k1, k2, last, i)
 
 
 # -- D* Lite's pieces ----------------------------------------------------------------------------
@@ -140,39 +120,7 @@ def _key1(m: float, u: int, sr: int, sc: int, w: int, km: float) -> float:
     return (m + (dr + dc + _K * (dr if dr < dc else dc)) + km + _Q) - _Q
 
 
-@_kernel()
-def recompute_rhs(cost: np.ndarray, g: np.ndarray, w: int, s: int) -> float:
-    """min over the successors ``v`` of c(s, v) + g(v), in ``_recompute_rhs``'s order."""
-    right, up, left, down = cost[s + 1], cost[s + w], cost[s - 1], cost[s - w]
-    best = right + g[s + 1]
-    val = up + g[s + w]
-    if val < best:
-        best = val
-    val = left + g[s - 1]
-    if val < best:
-        best = val
-    val = down + g[s - w]
-    if val < best:
-        best = val
-    if up != INF:
-        if right != INF:
-            val = SQRT2 * cost[s + w + 1] + g[s + w + 1]
-            if val < best:
-                best = val
-        if left != INF:
-            val = SQRT2 * cost[s + w - 1] + g[s + w - 1]
-            if val < best:
-                best = val
-    if down != INF:
-        if left != INF:
-            val = SQRT2 * cost[s - w - 1] + g[s - w - 1]
-            if val < best:
-                best = val
-        if right != INF:
-            val = SQRT2 * cost[s - w + 1] + g[s - w + 1]
-            if val < best:
-                best = val
-    return best
+recompute_rhs = _kernel()(loops.recompute_rhs)  # min over s's successors of c(s, v) + g(v)
 
 
 @_kernel()
@@ -212,6 +160,15 @@ def _raise(cost: np.ndarray, g: np.ndarray, rhs: np.ndarray, heap: np.ndarray, p
         update_vertex(g, rhs, heap, pos, k1, k2, size, s, start, w, km)
 
 
+@_kernel(inline="always")
+def _start_key(gs: float, rs: float, km: float) -> tuple[float, float]:
+    """The start's key (its h is 0), rounded as every key; (inf, inf) while it has no path."""
+    ms = gs if gs < rs else rs
+    if ms == INF:
+        return INF, INF
+    return (ms + km + _Q) - _Q, (ms + _Q) - _Q
+
+
 @_kernel()
 def compute(g: np.ndarray, rhs: np.ndarray, cost: np.ndarray, heap: np.ndarray, pos: np.ndarray,
             k1: np.ndarray, k2: np.ndarray, size: np.ndarray, start: int, w: int, km: float,
@@ -224,17 +181,13 @@ def compute(g: np.ndarray, rhs: np.ndarray, cost: np.ndarray, heap: np.ndarray, 
     done = steps = 0
     settled = False
     while True:
-        gs, rs = g[start], rhs[start]
-        ms = gs if gs < rs else rs
-        ks1 = ks2 = INF
-        if ms != INF:
-            ks1, ks2 = (ms + km + _Q) - _Q, (ms + _Q) - _Q
+        ks1, ks2 = _start_key(g[start], rhs[start], km)
         if size[0] == 0:
             settled = True
             break
         u = heap[0]
         t1, t2 = k1[u], k2[u]
-        if not (t1 < ks1 or (t1 == ks1 and t2 < ks2) or rs > gs):
+        if not (t1 < ks1 or (t1 == ks1 and t2 < ks2) or rhs[start] > g[start]):
             settled = True
             break
         if steps == budget:
@@ -245,8 +198,8 @@ def compute(g: np.ndarray, rhs: np.ndarray, cost: np.ndarray, heap: np.ndarray, 
         n1 = _key1(mu, u, sr, sc, w, km)
         n2 = (mu + _Q) - _Q
         if t1 < n1 or (t1 == n1 and t2 < n2):
-            k1[u], k2[u] = n1, n2  # re-key: the key only grows, so sift down from the top
-            _sift_down(heap, pos, k1, k2, size[0], 0)
+            k1[u], k2[u] = n1, n2  # re-key: the key only grows, so it moves down from the top
+            _sift(heap, pos, k1, k2, size[0], 0)
             continue
         queue_remove(heap, pos, k1, k2, size, u)
         if done == len(touched):
@@ -303,163 +256,37 @@ def compute(g: np.ndarray, rhs: np.ndarray, cost: np.ndarray, heap: np.ndarray, 
     return done, steps, settled, touched[:done]
 
 
-_FULL, _LOWERED = 1, 2  # marks of set_costs: rhs recomputed from all successors / lowered in place
-
-
-@_kernel()
-def _mark(mark: np.ndarray, marked: np.ndarray, count: int, s: int, kind: int) -> int:
-    """Add ``s`` to the set ``kind`` (a bit of ``mark[s]``); returns the new count of ``marked``."""
-    if mark[s] == 0:
-        marked[count] = s
-        count += 1
-    mark[s] |= kind
-    return count
+apply_costs = _kernel()(loops.apply_costs)  # set_costs' per-cell loop
 
 
 @_kernel()
 def set_costs(flat: np.ndarray, values: np.ndarray, cost: np.ndarray, g: np.ndarray, rhs: np.ndarray,
               inner: np.ndarray, heap: np.ndarray, pos: np.ndarray, k1: np.ndarray, k2: np.ndarray,
               size: np.ndarray, mark: np.ndarray, w: int, goal: int, start: int,
-              km: float) -> np.ndarray:
-    """``DStarLiteSearch.set_costs``' loop: set ``cost[flat[i]] = values[i]`` in turn, lower or
-    recompute the predecessors' rhs (Fig. 4's optimised update) and, if any cost changed, queue
-    the inconsistent ones with ``km`` (the grown value: the caller commits it when something
-    changed). ``mark`` (int8, n) is scratch, all 0 before and after. Returns the flat indices
-    of the cells whose cost changed, in order."""
-    changed = np.empty(len(flat), dtype=np.int64)
-    marked = np.empty(9 * len(flat), dtype=np.int64)
-    nc = count = 0
-    for i in range(len(flat)):
-        v, val = flat[i], values[i]
-        was = cost[v]
-        if was == val:
+              km: float) -> list[int]:
+    """``DStarLiteSearch.set_costs`` after its conversions: the costs applied
+    (:func:`~nav_bench.planners.dstar_loops.apply_costs`) and, if any changed, the marked
+    vertices' rhs recomputed and the inconsistent ones queued with ``km`` (the grown value:
+    the caller commits it when something changed). ``mark`` (int8, n) is scratch, all 0 before
+    and after. Returns the flat indices of the cells whose cost changed, in order."""
+    changed, marked = apply_costs(flat, values, cost, g, rhs, w, mark)
+    if len(changed) == 0:
+        return changed
+    mark[goal] = 0  # the goal's rhs stays 0 and it is not queued
+    for u in marked:
+        if mark[u] & loops.FULL and inner[u]:
+            rhs[u] = recompute_rhs(cost, g, w, u)
+    sr, sc = start // w, start % w
+    for u in marked:
+        if mark[u] == 0:
             continue
-        cost[v] = val
-        changed[nc] = v
-        nc += 1
-        if was == INF or val == INF:
-            for s in (v, v + 1, v - 1, v + w, v - w, v + w + 1, v + w - 1, v - w + 1, v - w - 1):
-                count = _mark(mark, marked, count, s, _FULL)
-            continue
-        gv = g[v]
-        if gv == INF:
-            continue
-        left, right = cost[v - 1] != INF, cost[v + 1] != INF
-        down, up = cost[v - w] != INF, cost[v + w] != INF
-        if val < was:  # cheaper: lower the predecessors' rhs
-            cand = val + gv
-            for s in (v - 1, v - w, v + 1, v + w):
-                if cand < rhs[s]:
-                    rhs[s] = cand
-                    count = _mark(mark, marked, count, s, _LOWERED)
-            cand = SQRT2 * val + gv
-            if left and down and cand < rhs[v - w - 1]:
-                rhs[v - w - 1] = cand
-                count = _mark(mark, marked, count, v - w - 1, _LOWERED)
-            if left and up and cand < rhs[v + w - 1]:
-                rhs[v + w - 1] = cand
-                count = _mark(mark, marked, count, v + w - 1, _LOWERED)
-            if right and down and cand < rhs[v - w + 1]:
-                rhs[v - w + 1] = cand
-                count = _mark(mark, marked, count, v - w + 1, _LOWERED)
-            if right and up and cand < rhs[v + w + 1]:
-                rhs[v + w + 1] = cand
-                count = _mark(mark, marked, count, v + w + 1, _LOWERED)
-            continue
-        through = was + gv - 1e-9  # dearer: recompute the rhs that may have gone through v
-        for s in (v - 1, v - w, v + 1, v + w):
-            if rhs[s] >= through:
-                count = _mark(mark, marked, count, s, _FULL)
-        through = SQRT2 * was + gv - 1e-9
-        if left:
-            if down and rhs[v - w - 1] >= through:
-                count = _mark(mark, marked, count, v - w - 1, _FULL)
-            if up and rhs[v + w - 1] >= through:
-                count = _mark(mark, marked, count, v + w - 1, _FULL)
-        if right:
-            if down and rhs[v - w + 1] >= through:
-                count = _mark(mark, marked, count, v - w + 1, _FULL)
-            if up and rhs[v + w + 1] >= through:
-                count = _mark(mark, marked, count, v + w + 1, _FULL)
-    if nc > 0:
-        mark[goal] = 0  # the goal's rhs stays 0 and it is not queued
-        for j in range(count):
-            u = marked[j]
-            if mark[u] & _FULL and inner[u]:
-                rhs[u] = recompute_rhs(cost, g, w, u)
-        sr, sc = start // w, start % w
-        for j in range(count):
-            u = marked[j]
-            if mark[u] == 0:
-                continue
-            gu, ru = g[u], rhs[u]
-            if gu == ru or not inner[u]:
-                queue_remove(heap, pos, k1, k2, size, u)
-                continue
-            m = gu if gu < ru else ru
+        mark[u] = 0
+        if g[u] == rhs[u] or not inner[u]:
+            queue_remove(heap, pos, k1, k2, size, u)
+        else:
+            m = g[u] if g[u] < rhs[u] else rhs[u]
             queue_set(heap, pos, k1, k2, size, u, _key1(m, u, sr, sc, w, km), (m + _Q) - _Q)
-    for j in range(count):
-        mark[marked[j]] = 0
-    return changed[:nc]
+    return changed
 
 
-@_kernel()
-def descend(cost: np.ndarray, g: np.ndarray, w: int, start: int, goal: int, limit: int,
-            index: np.ndarray, after: int, seen: np.ndarray) -> np.ndarray:
-    """``DStarLiteSearch.descend``: flat indices from the start by descending c + g, the first
-    of equal successors in MOVES' order, at most ``limit``; stops at the first cell after the
-    start whose ``index`` is above ``after`` (``index`` empty: no join); empty if there is no
-    descent (a dead end or a loop). ``seen`` (int8, n) is scratch, all 0 before and after."""
-    out = np.empty(min(limit, 1024), dtype=np.int64)
-    out[0] = start
-    n = 1
-    seen[start] = 1
-    s = start
-    join = len(index) > 0
-    failed = False
-    while s != goal and n < limit:
-        if join and n > 1 and index[s] > after:
-            break
-        right, up, left, down = cost[s + 1], cost[s + w], cost[s - 1], cost[s - w]
-        best, nxt = right + g[s + 1], s + 1
-        val = up + g[s + w]
-        if val < best:
-            best, nxt = val, s + w
-        val = left + g[s - 1]
-        if val < best:
-            best, nxt = val, s - 1
-        val = down + g[s - w]
-        if val < best:
-            best, nxt = val, s - w
-        if up != INF:
-            if right != INF:
-                val = SQRT2 * cost[s + w + 1] + g[s + w + 1]
-                if val < best:
-                    best, nxt = val, s + w + 1
-            if left != INF:
-                val = SQRT2 * cost[s + w - 1] + g[s + w - 1]
-                if val < best:
-                    best, nxt = val, s + w - 1
-        if down != INF:
-            if left != INF:
-                val = SQRT2 * cost[s - w - 1] + g[s - w - 1]
-                if val < best:
-                    best, nxt = val, s - w - 1
-            if right != INF:
-                val = SQRT2 * cost[s - w + 1] + g[s - w + 1]
-                if val < best:
-                    best, nxt = val, s - w + 1
-        if best == INF or seen[nxt]:
-            failed = True
-            break
-        seen[nxt] = 1
-        if n == len(out):
-            grown = np.empty(2 * n, dtype=np.int64)
-            grown[:n] = out
-            out = grown
-        out[n] = nxt
-        n += 1
-        s = nxt
-    for j in range(n):
-        seen[out[j]] = 0
-    return out[:0] if failed else out[:n]
+descend = _kernel()(loops.descend)  # the path from the start by descending c + g

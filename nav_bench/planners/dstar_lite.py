@@ -83,6 +83,7 @@ from nav_bench.interface import Command, GridState, Observation, StuckReason, wr
 from nav_bench.mapping.occupancy import SONAR_MODELS, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.carving import SeeThroughCarving
+from nav_bench.planners.dstar_loops import _K, _Q, FULL, apply_costs, descend, recompute_rhs
 from nav_bench.planners.follow import STOP, arrival_speed, pure_pursuit, steer
 from nav_bench.planners.footprint import (
     CARVE_SUB,
@@ -156,8 +157,6 @@ def clearance_costs(dist: np.ndarray, inscribed: float, margin: float, inscribed
     return cost
 
 
-_Q = 1.5 * 2.0 ** 23  # (x + _Q) - _Q rounds x >= 0 to a multiple of 2**-29 (~2e-9) up to 2**22
-_K = SQRT2 - 2.0  # octile distance: dr + dc + _K * min(dr, dc)
 
 
 _FAR = 1 << 40  # a squared distance beyond any cap
@@ -331,6 +330,7 @@ class DStarLiteSearch:
         self.touched: list[int] | None = None  # with a list, compute() appends each vertex whose g it sets
         self.steps = 0  # queue steps (expansions and re-keyings) over all compute() calls
         self.settled = False  # did the last compute() finish (not stopped by its budget)?
+        self._scratch = bytearray(n)  # marks of set_costs and descend: all 0 between calls
         self.rhs[self.goal] = 0.0
         self._update_vertex(self.goal)
 
@@ -350,40 +350,9 @@ class DStarLiteSearch:
         heapq.heappush(self.heap, e)
 
     def _recompute_rhs(self, s: int) -> float:
-        """min over the successors ``v`` of c(s, v) + g(v) (written out: this is the search's
-        most frequent call)."""
-        cost, g, w = self.graph.cost, self.g, self.graph.width
-        right, up, left, down = cost[s + 1], cost[s + w], cost[s - 1], cost[s - w]
-        best = right + g[s + 1]
-        val = up + g[s + w]
-        if val < best:
-            best = val
-        val = left + g[s - 1]
-        if val < best:
-            best = val
-        val = down + g[s - w]
-        if val < best:
-            best = val
-        # diagonals, in MOVES' order, not past a lethal cell
-        if up != INF:
-            if right != INF:
-                val = SQRT2 * cost[s + w + 1] + g[s + w + 1]
-                if val < best:
-                    best = val
-            if left != INF:
-                val = SQRT2 * cost[s + w - 1] + g[s + w - 1]
-                if val < best:
-                    best = val
-        if down != INF:
-            if left != INF:
-                val = SQRT2 * cost[s - w - 1] + g[s - w - 1]
-                if val < best:
-                    best = val
-            if right != INF:
-                val = SQRT2 * cost[s - w + 1] + g[s - w + 1]
-                if val < best:
-                    best = val
-        return best
+        """min over the successors ``v`` of c(s, v) + g(v)
+        (:func:`~nav_bench.planners.dstar_loops.recompute_rhs`)."""
+        return recompute_rhs(self.graph.cost, self.g, self.graph.width, s)
 
     # -- the algorithm -----------------------------------------------------------------------------
     def compute(self, max_expansions: int | None = None) -> int:
@@ -395,7 +364,7 @@ class DStarLiteSearch:
         start, km = self.start, self.km
         sr, sc = row[start], col[start]
         pop, push, replace = heapq.heappop, heapq.heappush, heapq.heapreplace
-        recompute, update = self._recompute_rhs, self._update_vertex
+        recompute, update = functools.partial(recompute_rhs, cost, g, w), self._update_vertex
         touched = self.touched if self.touched is not None else []
         budget = -1 if max_expansions is None else max_expansions
 
@@ -548,66 +517,19 @@ class DStarLiteSearch:
         """Change cell costs and update the vertices whose outgoing edges changed. Returns the
         number of cells that really changed.
 
-        The paper's optimised update (Fig. 4): an edge into ``v`` that got cheaper lowers the
-        predecessor's ``rhs`` by one comparison; one that got dearer recomputes it only if the
-        predecessor's ``rhs`` went through ``v``. A cell that becomes or stops being lethal also
-        changes the diagonal edges cutting past it: its whole 3 x 3 block is recomputed.
-        (A cell given twice ends with its last value, as if they were set one by one.)"""
+        The paper's optimised update (Fig. 4, :func:`~nav_bench.planners.dstar_loops.apply_costs`):
+        an edge into ``v`` that got cheaper lowers the predecessor's ``rhs`` by one comparison;
+        one that got dearer recomputes it only if the predecessor's ``rhs`` went through ``v``.
+        A cell that becomes or stops being lethal also changes the diagonal edges cutting past
+        it: its whole 3 x 3 block is recomputed. (A cell given twice ends with its last value,
+        as if they were set one by one.)"""
         graph = self.graph
-        w, cost, g, rhs, inner = graph.width, graph.cost, self.g, self.rhs, graph.inner
+        w, cost, g, rhs, inner, mark = graph.width, graph.cost, self.g, self.rhs, graph.inner, self._scratch
         flat = ((np.asarray(rows, dtype=np.int64) + 1) * w + np.asarray(cols, dtype=np.int64) + 1).tolist()
-        full: set[int] = set()  # rhs recomputed from all successors
-        lowered: set[int] = set()  # rhs lowered in place
-        changed: list[int] = []
-        for v, val in zip(flat, np.asarray(values, dtype=float).reshape(-1).tolist(), strict=True):
-            was = cost[v]
-            if was == val:
-                continue
-            cost[v] = val
-            changed.append(v)
-            if was == INF or val == INF:
-                full.update((v, v + 1, v - 1, v + w, v - w, v + w + 1, v + w - 1, v - w + 1, v - w - 1))
-                continue
-            gv = g[v]
-            if gv == INF:
-                continue  # no rhs goes through v, and a cheaper v cannot lower one yet
-            left, right = cost[v - 1] != INF, cost[v + 1] != INF
-            down, up = cost[v - w] != INF, cost[v + w] != INF
-            # the steps s -> v (diagonals not past a lethal cell); rhs -inf (frame) or 0 (goal)
-            # is never above a candidate nor reached through v
-            if val < was:  # cheaper: lower the predecessors' rhs
-                cand = val + gv
-                for s in (v - 1, v - w, v + 1, v + w):
-                    if cand < rhs[s]:
-                        rhs[s] = cand
-                        lowered.add(s)
-                cand = SQRT2 * val + gv
-                for s, ok in ((v - w - 1, left and down), (v + w - 1, left and up),
-                              (v - w + 1, right and down), (v + w + 1, right and up)):
-                    if ok and cand < rhs[s]:
-                        rhs[s] = cand
-                        lowered.add(s)
-                continue
-            through = was + gv - 1e-9  # dearer: recompute the rhs that may have gone through v
-            if rhs[v - 1] >= through:
-                full.add(v - 1)
-            if rhs[v - w] >= through:
-                full.add(v - w)
-            if rhs[v + 1] >= through:
-                full.add(v + 1)
-            if rhs[v + w] >= through:
-                full.add(v + w)
-            through = SQRT2 * was + gv - 1e-9
-            if left:
-                if down and rhs[v - w - 1] >= through:
-                    full.add(v - w - 1)
-                if up and rhs[v + w - 1] >= through:
-                    full.add(v + w - 1)
-            if right:
-                if down and rhs[v - w + 1] >= through:
-                    full.add(v - w + 1)
-                if up and rhs[v + w + 1] >= through:
-                    full.add(v + w + 1)
+        values = np.asarray(values, dtype=float).reshape(-1).tolist()
+        if len(flat) != len(values):
+            raise ValueError(f"{len(flat)} cells but {len(values)} costs")
+        changed, marked = apply_costs(flat, values, cost, g, rhs, w, mark)
         if not changed:
             return 0
         if self.touched is not None:
@@ -615,16 +537,18 @@ class DStarLiteSearch:
         graph.cost_array[changed] = [cost[v] for v in changed]
         self.km += graph.octile(self.last, self.start)
         self.last = self.start
-        full.discard(self.goal)
-        recompute = self._recompute_rhs
-        for u in full:
-            if inner[u]:
+        mark[self.goal] = 0  # the goal's rhs stays 0 and it is not queued
+        recompute = functools.partial(recompute_rhs, cost, g, w)
+        for u in marked:
+            if mark[u] & FULL and inner[u]:
                 rhs[u] = recompute(u)
-        full |= lowered
         # queue the inconsistent ones (the order of pushes does not matter: keys are unique)
         entry, heap, push, km, row, col = self.entry, self.heap, heapq.heappush, self.km, graph.row, graph.col
         sr, sc = row[self.start], col[self.start]
-        for u in full:
+        for u in marked:
+            if not mark[u]:
+                continue
+            mark[u] = 0
             gu, ru = g[u], rhs[u]
             if gu == ru or not inner[u]:
                 entry[u] = None
@@ -661,56 +585,17 @@ class DStarLiteSearch:
                     return out[:i + 1] + tail[join[out[i]] + 1:]
         return out
 
-    def descend(self, max_len: int | None = None, join: dict[int, int] | None = None,
+    def descend(self, max_len: int | None = None, index: np.ndarray | None = None,
                 after: int = -1) -> list[int]:
         """Flat indices from the start to the goal (at most ``max_len``) by descending
-        ``c + g``, the first of equal successors in :data:`MOVES`' order; [] if there is none.
-        With ``join`` (flat index -> index in a path), it stops at the first cell after the
-        start that ``join`` maps above ``after``."""
+        ``c + g``, the first of equal successors in :data:`MOVES`' order; [] if there is none
+        (:func:`~nav_bench.planners.dstar_loops.descend`). With ``index`` (flat index -> index
+        in a path, -1 off it), it stops at the first cell after the start that ``index`` maps
+        above ``after``."""
         if self.path_cost == INF:
             return []
-        cost, g, w, goal = self.graph.cost, self.g, self.graph.width, self.goal
-        s, out, seen = self.start, [self.start], {self.start}
-        limit = max_len or len(g)
-        while s != goal and len(out) < limit:
-            if join is not None and len(out) > 1 and join.get(s, -1) > after:
-                break
-            right, up, left, down = cost[s + 1], cost[s + w], cost[s - 1], cost[s - w]
-            best, nxt = right + g[s + 1], s + 1
-            val = up + g[s + w]
-            if val < best:
-                best, nxt = val, s + w
-            val = left + g[s - 1]
-            if val < best:
-                best, nxt = val, s - 1
-            val = down + g[s - w]
-            if val < best:
-                best, nxt = val, s - w
-            if up != INF:
-                if right != INF:
-                    val = SQRT2 * cost[s + w + 1] + g[s + w + 1]
-                    if val < best:
-                        best, nxt = val, s + w + 1
-                if left != INF:
-                    val = SQRT2 * cost[s + w - 1] + g[s + w - 1]
-                    if val < best:
-                        best, nxt = val, s + w - 1
-            if down != INF:
-                if left != INF:
-                    val = SQRT2 * cost[s - w - 1] + g[s - w - 1]
-                    if val < best:
-                        best, nxt = val, s - w - 1
-                if right != INF:
-                    val = SQRT2 * cost[s - w + 1] + g[s - w + 1]
-                    if val < best:
-                        best, nxt = val, s - w + 1
-            if best == INF or nxt in seen:
-                return []
-            seen.add(nxt)
-            out.append(nxt)
-            s = nxt
-        return out
-
+        return descend(self.graph.cost, self.g, self.graph.width, self.start, self.goal,
+                       max_len or len(self.g), _NO_ROWS if index is None else index, after, self._scratch)
 
 SEARCH_KERNELS = ("auto", "python", "numba")  # choices of DStarLite's search_kernel
 
@@ -769,8 +654,7 @@ class CompiledSearch(DStarLiteSearch):
         self._k1, self._k2 = np.zeros(n), np.zeros(n)  # each queued vertex's key
         self._size = np.zeros(1, dtype=np.int64)
         self._scratch = np.zeros(n, dtype=np.int8)  # the kernels' marks, all 0 between calls
-        self._join = np.full(n, -1, dtype=np.int64)  # descend's join as an array, -1 between calls
-        self._no_join = np.zeros(0, dtype=np.int64)
+        self._no_join = np.zeros(0, dtype=np.int64)  # descend without a path to join
         self.km = 0.0
         self.goal = graph.index(goal)
         self.start = graph.index(start)
@@ -826,10 +710,10 @@ class CompiledSearch(DStarLiteSearch):
         km = self.km + graph.octile(self.last, self.start)  # km's growth, if anything changes
         changed = self._kernels.set_costs(flat, vals, graph.cost_array, self.g, self.rhs, self._inner,
                                           *self._queue(), self._scratch, w, self.goal, self.start, km)
-        if not len(changed):
+        if not changed:
             return 0
         if self.touched is not None:
-            self.touched.extend(changed.tolist())
+            self.touched.extend(changed)
         self.km, self.last = km, self.start
         return len(changed)
 
@@ -841,22 +725,14 @@ class CompiledSearch(DStarLiteSearch):
         heap = self._heap[:self._size[0]].tolist()
         return sorted((float(self._k1[u]), float(self._k2[u]), u) for u in heap)
 
-    def descend(self, max_len: int | None = None, join: dict[int, int] | None = None,
+    def descend(self, max_len: int | None = None, index: np.ndarray | None = None,
                 after: int = -1) -> list[int]:
         if self.path_cost == INF:
             return []
-        graph, index = self.graph, self._join
-        keys = np.fromiter(join.keys(), dtype=np.int64, count=len(join)) if join else self._no_join
-        if len(keys):
-            index[keys] = np.fromiter(join.values(), dtype=np.int64, count=len(keys))
-        try:
-            out = self._kernels.descend(graph.cost_array, self.g, graph.width, self.start, self.goal,
-                                        max_len or len(self.g), index if len(keys) else self._no_join,
-                                        after, self._scratch)
-        finally:
-            index[keys] = -1
-        return out.tolist()
-
+        graph = self.graph
+        return self._kernels.descend(graph.cost_array, self.g, graph.width, self.start, self.goal,
+                                     max_len or len(self.g), self._no_join if index is None else index,
+                                     after, self._scratch)
 
 def astar(cost: np.ndarray, start: Sequence[int], goal: Sequence[int]
           ) -> tuple[float, list[tuple[int, int]]]:
@@ -1047,7 +923,7 @@ class PathRepair:
                 near = np.unique(np.asarray(touched, dtype=np.int64))
                 near = (near[:, None] + graph.block[None, :]).ravel()
                 after = int(self._index[near].max())
-            flat = search.descend(self.prefix or None, join=where, after=after)
+            flat = search.descend(self.prefix or None, index=self._index, after=after)
         self._index[self._flat] = -1
         g, w = search.g, graph.width
         cells = [(v // w - 1, v % w - 1) for v in flat]
