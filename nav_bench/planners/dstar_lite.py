@@ -36,7 +36,13 @@ flat Python lists (fast scalar access) over a grid padded with a one-cell lethal
 lazy deletion (an entry counts while it is the vertex's current one). Keys are rounded to
 2**-29 cells (one addition and one subtraction): ``g + h + km`` summed along different routes
 must tie exactly, or a 1e-15 difference in ``k1`` overrides the ``k2`` tie-break and the
-search stops one expansion early with a stale ``g``. The neighbour loops are written out.
+search stops one expansion early with a stale ``g``. The neighbour loops are written out
+(:mod:`~nav_bench.planners.dstar_loops`).
+
+The search's loops, in Python or compiled (``search_kernel``): :class:`CompiledSearch` runs
+them as Numba kernels (:mod:`~nav_bench.planners.dstar_kernels`, the optional ``fast`` extra)
+on NumPy arrays and an indexed binary heap, with the same results bit for bit; ``auto`` (the
+default) uses it when Numba can be imported.
 
 Time slicing (:class:`PathRepair`): at most ``expansions_per_cycle`` queue steps per control
 cycle; an unfinished repair continues next cycle while the robot follows the part of its old
@@ -364,7 +370,7 @@ class DStarLiteSearch:
         start, km = self.start, self.km
         sr, sc = row[start], col[start]
         pop, push, replace = heapq.heappop, heapq.heappush, heapq.heapreplace
-        recompute, update = functools.partial(recompute_rhs, cost, g, w), self._update_vertex
+        recompute, update = recompute_rhs, self._update_vertex  # (a plain call: 3.11 inlines it)
         touched = self.touched if self.touched is not None else []
         budget = -1 if max_expansions is None else max_expansions
 
@@ -451,13 +457,13 @@ class DStarLiteSearch:
                     val = cu + gu - 1e-9  # s may have taken its rhs through u
                     for s in (u - 1, u - w, u + 1, u + w):
                         if rhs[s] >= val:
-                            rhs[s] = recompute(s)
+                            rhs[s] = recompute(cost, g, w, s)
                             update(s)
                     val = SQRT2 * cu + gu - 1e-9
                     for s in ((u - w - 1) if left and down else 0, (u - w + 1) if right and down else 0,
                               (u + w + 1) if right and up else 0, (u + w - 1) if left and up else 0):
                         if rhs[s] >= val:
-                            rhs[s] = recompute(s)
+                            rhs[s] = recompute(cost, g, w, s)
                             update(s)
                 update(u)  # rhs(u) does not depend on g(u): it is still exact
         self.expansions += done
@@ -538,10 +544,10 @@ class DStarLiteSearch:
         self.km += graph.octile(self.last, self.start)
         self.last = self.start
         mark[self.goal] = 0  # the goal's rhs stays 0 and it is not queued
-        recompute = functools.partial(recompute_rhs, cost, g, w)
+        recompute = recompute_rhs
         for u in marked:
             if mark[u] & FULL and inner[u]:
-                rhs[u] = recompute(u)
+                rhs[u] = recompute(cost, g, w, u)
         # queue the inconsistent ones (the order of pushes does not matter: keys are unique)
         entry, heap, push, km, row, col = self.entry, self.heap, heapq.heappush, self.km, graph.row, graph.col
         sr, sc = row[self.start], col[self.start]
