@@ -740,6 +740,7 @@ class CompiledSearch(DStarLiteSearch):
                                      max_len or len(self.g), self._no_join if index is None else index,
                                      after, self._scratch)
 
+
 def astar(cost: np.ndarray, start: Sequence[int], goal: Sequence[int]
           ) -> tuple[float, list[tuple[int, int]]]:
     """A* from scratch on the same graph as :class:`DStarLiteSearch` (octile heuristic).
