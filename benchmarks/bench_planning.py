@@ -3,6 +3,8 @@
     python benchmarks/bench_planning.py [--planners P,P] [--big-only] [--worlds W,W]
                                         [--time-s 60] [--seed 0]
 
+``P``: a planner name, or a name with overrides (``dstar_lite:search_kernel=python``).
+
 Plays each shipped planner (:data:`nav_bench.planners.registry.BUILTIN`) for ``--time-s``
 simulated seconds (or until the episode ends) in
 
@@ -34,8 +36,8 @@ sys.path.insert(0, str(ROOT))
 from nav_bench.episode import EpisodeSettings  # noqa: E402
 from nav_bench.episode.loop import run_episode  # noqa: E402
 from nav_bench.planners.base import Planner  # noqa: E402
-from nav_bench.planners.registry import BUILTIN, make_planner  # noqa: E402
-from nav_bench.specs import PlannerSetSpec, WorldSpec  # noqa: E402
+from nav_bench.planners.registry import BUILTIN, make_planner, parse_planner_arg  # noqa: E402
+from nav_bench.specs import WorldSpec  # noqa: E402
 from nav_bench.world.generate import generate_world  # noqa: E402
 from nav_bench.world.load import load_world  # noqa: E402
 
@@ -72,7 +74,7 @@ def plan_ms(world: WorldSpec, planner: str, time_s: float,
             seed: int) -> tuple[np.ndarray, np.ndarray, str]:
     """Per-cycle planning times (ms) of one episode, wall clock (the trace's ``plan_s``) and
     CPU, and its outcome."""
-    spec = PlannerSetSpec(planner=planner)
+    spec = parse_planner_arg(planner)
     agent = make_planner(spec)
     timer = CpuTimed(agent)
     result = run_episode(world, spec, seed=seed, settings=EpisodeSettings(time_s=time_s),
@@ -90,7 +92,7 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args()
     planners = args.planners.split(",") if args.planners else sorted(BUILTIN)
-    unknown = sorted(set(planners) - set(BUILTIN))
+    unknown = sorted({p.partition(":")[0] for p in planners} - set(BUILTIN))
     if unknown:
         sys.exit(f"error: unknown planner {unknown[0]!r}; shipped: {', '.join(sorted(BUILTIN))}")
     worlds = [big_world()]

@@ -51,9 +51,15 @@ from pydantic import Field, PositiveFloat
 from nav_bench.episode.protocol import PROTOCOLS, make_protocol, protocol_of
 from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.errors import InputError, SpecError, SpecErrors, UnknownNameError, format_key_path
-from nav_bench.ids import params_id, robot_id, stable_id
+from nav_bench.ids import robot_id, stable_id
 from nav_bench.paths import project_file, project_roots
-from nav_bench.planners.registry import check_params, load_planner_set, parse_planner_arg
+from nav_bench.planners.registry import (
+    check_params,
+    identity_params,
+    load_planner_set,
+    parse_planner_arg,
+    set_id,
+)
 from nav_bench.specs import (
     PlannerSetSpec,
     RobotSpec,
@@ -616,7 +622,7 @@ def _planners(entries: dict[str, Any], resolver: _Resolver, file: str | None,
                 raise _err(f"label {item_label!r} is used twice", file, index, loc)
             labels.add(item_label)
             items.append(PlannerItem(label=item_label, spec=spec, params=full,
-                                     params_id=params_id(spec.planner, full)))
+                                     params_id=set_id(spec.planner, full)))
     return items
 
 
@@ -683,7 +689,8 @@ def _robot_error(exc: SpecError, overrides: dict[str, Any], loc: Loc, file: str 
 def job_id(world: WorldItem, planner: PlannerItem, robot: RobotItem, seed: int,
            settings: dict[str, Any]) -> str:
     """Readable and content-addressed: ``<world>__<label>__<robot>__s<seed>__<hash>``."""
-    digest = stable_id(world.digest, planner.spec.planner, planner.params, robot.robot_id, seed,
+    params = identity_params(planner.spec.planner, planner.params)  # (neutral ones decide nothing)
+    digest = stable_id(world.digest, planner.spec.planner, params, robot.robot_id, seed,
                        settings, length=8)
     return f"{slug(world.name)}__{slug(planner.label)}__{slug(robot.label)}__s{seed}__{digest}"
 

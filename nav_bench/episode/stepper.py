@@ -30,10 +30,10 @@ from nav_bench.episode.protocol import protocol_of
 from nav_bench.episode.row import ResultRow
 from nav_bench.episode.settings import EpisodeSettings
 from nav_bench.episode.trace import Trace, TraceRecorder
-from nav_bench.ids import episode_rng, params_id, robot_id
+from nav_bench.ids import episode_rng, robot_id
 from nav_bench.interface import Command, Observation, Outcome, RobotInfo, StuckReason
 from nav_bench.planners.base import Planner
-from nav_bench.planners.registry import full_params
+from nav_bench.planners.registry import full_params, set_id
 from nav_bench.sim.session import SimSession
 from nav_bench.sim.simulation import Simulation
 from nav_bench.specs import PlannerSetSpec, RobotSpec, WorldSpec, load_robot
@@ -73,7 +73,7 @@ class EpisodeStepper:
         self.settings = settings = settings or EpisodeSettings()
         self.robot = robot = robot or load_robot()
         self.params = full_params(planner)
-        self.params_id, self.robot_id = params_id(planner.planner, self.params), robot_id(robot)
+        self.params_id, self.robot_id = set_id(planner.planner, self.params), robot_id(robot)
         self.rng = episode_rng(world.name or "world", self.params_id, self.robot_id, seed)
         self.planner_rng = self.rng.spawn(1)[0]
         self.recorder = TraceRecorder(world)

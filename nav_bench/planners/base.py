@@ -30,7 +30,12 @@ class ParamError(InputError):
 
 @dataclass(frozen=True)
 class Param:
-    """One planner parameter: its default, unit and one line of meaning."""
+    """One planner parameter: its default, unit and one line of meaning.
+
+    ``neutral``: the parameter chooses how the planner computes, never what (D* Lite's
+    ``search_kernel``: the same results bit for bit); it is left out of the parameter set's id,
+    so the episodes' ids and random streams are those of the set without it.
+    """
 
     name: str
     default: Any
@@ -39,6 +44,7 @@ class Param:
     choices: tuple[Any, ...] | None = None
     minimum: float | None = None
     maximum: float | None = None
+    neutral: bool = False
 
     def check(self, value: Any) -> Any:
         """The value converted to the default's type, or :class:`InputError` saying what is expected."""

@@ -36,7 +36,13 @@ flat Python lists (fast scalar access) over a grid padded with a one-cell lethal
 lazy deletion (an entry counts while it is the vertex's current one). Keys are rounded to
 2**-29 cells (one addition and one subtraction): ``g + h + km`` summed along different routes
 must tie exactly, or a 1e-15 difference in ``k1`` overrides the ``k2`` tie-break and the
-search stops one expansion early with a stale ``g``. The neighbour loops are written out.
+search stops one expansion early with a stale ``g``. The neighbour loops are written out
+(:mod:`~nav_bench.planners.dstar_loops`).
+
+The search's loops, in Python or compiled (``search_kernel``): :class:`CompiledSearch` runs
+them as Numba kernels (:mod:`~nav_bench.planners.dstar_kernels`, the optional ``fast`` extra)
+on NumPy arrays and an indexed binary heap, with the same results bit for bit; ``auto`` (the
+default) uses it when Numba can be imported.
 
 Time slicing (:class:`PathRepair`): at most ``expansions_per_cycle`` queue steps per control
 cycle; an unfinished repair continues next cycle while the robot follows the part of its old
@@ -68,9 +74,11 @@ A repair after which the path ahead differs from the previous one emits a ``repl
 
 from __future__ import annotations
 
+import functools
 import heapq
 import math
 from collections.abc import Iterable, Sequence
+from types import ModuleType
 from typing import Any, ClassVar
 
 import numpy as np
@@ -81,6 +89,7 @@ from nav_bench.interface import Command, GridState, Observation, StuckReason, wr
 from nav_bench.mapping.occupancy import SONAR_MODELS, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.carving import SeeThroughCarving
+from nav_bench.planners.dstar_loops import _K, _Q, FULL, apply_costs, descend, recompute_rhs
 from nav_bench.planners.follow import STOP, arrival_speed, pure_pursuit, steer
 from nav_bench.planners.footprint import (
     CARVE_SUB,
@@ -154,8 +163,6 @@ def clearance_costs(dist: np.ndarray, inscribed: float, margin: float, inscribed
     return cost
 
 
-_Q = 1.5 * 2.0 ** 23  # (x + _Q) - _Q rounds x >= 0 to a multiple of 2**-29 (~2e-9) up to 2**22
-_K = SQRT2 - 2.0  # octile distance: dr + dc + _K * min(dr, dc)
 
 
 _FAR = 1 << 40  # a squared distance beyond any cap
@@ -329,6 +336,7 @@ class DStarLiteSearch:
         self.touched: list[int] | None = None  # with a list, compute() appends each vertex whose g it sets
         self.steps = 0  # queue steps (expansions and re-keyings) over all compute() calls
         self.settled = False  # did the last compute() finish (not stopped by its budget)?
+        self._scratch = bytearray(n)  # marks of set_costs and descend: all 0 between calls
         self.rhs[self.goal] = 0.0
         self._update_vertex(self.goal)
 
@@ -348,40 +356,9 @@ class DStarLiteSearch:
         heapq.heappush(self.heap, e)
 
     def _recompute_rhs(self, s: int) -> float:
-        """min over the successors ``v`` of c(s, v) + g(v) (written out: this is the search's
-        most frequent call)."""
-        cost, g, w = self.graph.cost, self.g, self.graph.width
-        right, up, left, down = cost[s + 1], cost[s + w], cost[s - 1], cost[s - w]
-        best = right + g[s + 1]
-        val = up + g[s + w]
-        if val < best:
-            best = val
-        val = left + g[s - 1]
-        if val < best:
-            best = val
-        val = down + g[s - w]
-        if val < best:
-            best = val
-        # diagonals, in MOVES' order, not past a lethal cell
-        if up != INF:
-            if right != INF:
-                val = SQRT2 * cost[s + w + 1] + g[s + w + 1]
-                if val < best:
-                    best = val
-            if left != INF:
-                val = SQRT2 * cost[s + w - 1] + g[s + w - 1]
-                if val < best:
-                    best = val
-        if down != INF:
-            if left != INF:
-                val = SQRT2 * cost[s - w - 1] + g[s - w - 1]
-                if val < best:
-                    best = val
-            if right != INF:
-                val = SQRT2 * cost[s - w + 1] + g[s - w + 1]
-                if val < best:
-                    best = val
-        return best
+        """min over the successors ``v`` of c(s, v) + g(v)
+        (:func:`~nav_bench.planners.dstar_loops.recompute_rhs`)."""
+        return recompute_rhs(self.graph.cost, self.g, self.graph.width, s)
 
     # -- the algorithm -----------------------------------------------------------------------------
     def compute(self, max_expansions: int | None = None) -> int:
@@ -393,7 +370,7 @@ class DStarLiteSearch:
         start, km = self.start, self.km
         sr, sc = row[start], col[start]
         pop, push, replace = heapq.heappop, heapq.heappush, heapq.heapreplace
-        recompute, update = self._recompute_rhs, self._update_vertex
+        recompute, update = recompute_rhs, self._update_vertex  # (a plain call: 3.11 inlines it)
         touched = self.touched if self.touched is not None else []
         budget = -1 if max_expansions is None else max_expansions
 
@@ -480,13 +457,13 @@ class DStarLiteSearch:
                     val = cu + gu - 1e-9  # s may have taken its rhs through u
                     for s in (u - 1, u - w, u + 1, u + w):
                         if rhs[s] >= val:
-                            rhs[s] = recompute(s)
+                            rhs[s] = recompute(cost, g, w, s)
                             update(s)
                     val = SQRT2 * cu + gu - 1e-9
                     for s in ((u - w - 1) if left and down else 0, (u - w + 1) if right and down else 0,
                               (u + w + 1) if right and up else 0, (u + w - 1) if left and up else 0):
                         if rhs[s] >= val:
-                            rhs[s] = recompute(s)
+                            rhs[s] = recompute(cost, g, w, s)
                             update(s)
                 update(u)  # rhs(u) does not depend on g(u): it is still exact
         self.expansions += done
@@ -502,6 +479,17 @@ class DStarLiteSearch:
         else SciPy's Dijkstra on the reversed graph (:meth:`GridGraph.reverse_csr`). Both add
         the search's own terms (``g(v) + step * cost(v)``, one addition per step), so ``rhs``
         recomputed from the result equals it bit for bit: every cell is consistent."""
+        g, rhs = self._costs_to_go()
+        self.g = g.tolist()
+        self.rhs = rhs.tolist()
+        self.entry = [None] * len(self.g)
+        self.heap = []
+        self.settled = True
+
+    def _costs_to_go(self) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`plan_from_scratch`'s ``g`` and ``rhs`` as flat arrays: every inner cell's cost
+        to the goal (``inf`` on the frame; ``rhs`` the same but ``-inf`` on the frame and 0 at
+        the goal)."""
         graph = self.graph
         inner = np.frombuffer(graph.inner, dtype=np.uint8) == 1
         costs = graph.cost_array[inner]
@@ -514,13 +502,10 @@ class DStarLiteSearch:
 
             dist = dijkstra(graph.reverse_csr(), directed=True, indices=self.goal)
             dist[~inner] = INF
-        self.g = dist.tolist()
-        dist[~inner] = -INF
-        dist[self.goal] = 0.0
-        self.rhs = dist.tolist()
-        self.entry = [None] * len(self.g)
-        self.heap = []
-        self.settled = True
+        rhs = dist.copy()
+        rhs[~inner] = -INF
+        rhs[self.goal] = 0.0
+        return dist, rhs
 
     def move_start(self, rc: Sequence[int]) -> None:
         """The robot is now in cell ``rc`` (call :meth:`compute` afterwards).
@@ -538,66 +523,19 @@ class DStarLiteSearch:
         """Change cell costs and update the vertices whose outgoing edges changed. Returns the
         number of cells that really changed.
 
-        The paper's optimised update (Fig. 4): an edge into ``v`` that got cheaper lowers the
-        predecessor's ``rhs`` by one comparison; one that got dearer recomputes it only if the
-        predecessor's ``rhs`` went through ``v``. A cell that becomes or stops being lethal also
-        changes the diagonal edges cutting past it: its whole 3 x 3 block is recomputed.
-        (A cell given twice ends with its last value, as if they were set one by one.)"""
+        The paper's optimised update (Fig. 4, :func:`~nav_bench.planners.dstar_loops.apply_costs`):
+        an edge into ``v`` that got cheaper lowers the predecessor's ``rhs`` by one comparison;
+        one that got dearer recomputes it only if the predecessor's ``rhs`` went through ``v``.
+        A cell that becomes or stops being lethal also changes the diagonal edges cutting past
+        it: its whole 3 x 3 block is recomputed. (A cell given twice ends with its last value,
+        as if they were set one by one.)"""
         graph = self.graph
-        w, cost, g, rhs, inner = graph.width, graph.cost, self.g, self.rhs, graph.inner
+        w, cost, g, rhs, inner, mark = graph.width, graph.cost, self.g, self.rhs, graph.inner, self._scratch
         flat = ((np.asarray(rows, dtype=np.int64) + 1) * w + np.asarray(cols, dtype=np.int64) + 1).tolist()
-        full: set[int] = set()  # rhs recomputed from all successors
-        lowered: set[int] = set()  # rhs lowered in place
-        changed: list[int] = []
-        for v, val in zip(flat, np.asarray(values, dtype=float).reshape(-1).tolist(), strict=True):
-            was = cost[v]
-            if was == val:
-                continue
-            cost[v] = val
-            changed.append(v)
-            if was == INF or val == INF:
-                full.update((v, v + 1, v - 1, v + w, v - w, v + w + 1, v + w - 1, v - w + 1, v - w - 1))
-                continue
-            gv = g[v]
-            if gv == INF:
-                continue  # no rhs goes through v, and a cheaper v cannot lower one yet
-            left, right = cost[v - 1] != INF, cost[v + 1] != INF
-            down, up = cost[v - w] != INF, cost[v + w] != INF
-            # the steps s -> v (diagonals not past a lethal cell); rhs -inf (frame) or 0 (goal)
-            # is never above a candidate nor reached through v
-            if val < was:  # cheaper: lower the predecessors' rhs
-                cand = val + gv
-                for s in (v - 1, v - w, v + 1, v + w):
-                    if cand < rhs[s]:
-                        rhs[s] = cand
-                        lowered.add(s)
-                cand = SQRT2 * val + gv
-                for s, ok in ((v - w - 1, left and down), (v + w - 1, left and up),
-                              (v - w + 1, right and down), (v + w + 1, right and up)):
-                    if ok and cand < rhs[s]:
-                        rhs[s] = cand
-                        lowered.add(s)
-                continue
-            through = was + gv - 1e-9  # dearer: recompute the rhs that may have gone through v
-            if rhs[v - 1] >= through:
-                full.add(v - 1)
-            if rhs[v - w] >= through:
-                full.add(v - w)
-            if rhs[v + 1] >= through:
-                full.add(v + 1)
-            if rhs[v + w] >= through:
-                full.add(v + w)
-            through = SQRT2 * was + gv - 1e-9
-            if left:
-                if down and rhs[v - w - 1] >= through:
-                    full.add(v - w - 1)
-                if up and rhs[v + w - 1] >= through:
-                    full.add(v + w - 1)
-            if right:
-                if down and rhs[v - w + 1] >= through:
-                    full.add(v - w + 1)
-                if up and rhs[v + w + 1] >= through:
-                    full.add(v + w + 1)
+        values = np.asarray(values, dtype=float).reshape(-1).tolist()
+        if len(flat) != len(values):
+            raise ValueError(f"{len(flat)} cells but {len(values)} costs")
+        changed, marked = apply_costs(flat, values, cost, g, rhs, w, mark)
         if not changed:
             return 0
         if self.touched is not None:
@@ -605,16 +543,18 @@ class DStarLiteSearch:
         graph.cost_array[changed] = [cost[v] for v in changed]
         self.km += graph.octile(self.last, self.start)
         self.last = self.start
-        full.discard(self.goal)
-        recompute = self._recompute_rhs
-        for u in full:
-            if inner[u]:
-                rhs[u] = recompute(u)
-        full |= lowered
+        mark[self.goal] = 0  # the goal's rhs stays 0 and it is not queued
+        recompute = recompute_rhs
+        for u in marked:
+            if mark[u] & FULL and inner[u]:
+                rhs[u] = recompute(cost, g, w, u)
         # queue the inconsistent ones (the order of pushes does not matter: keys are unique)
         entry, heap, push, km, row, col = self.entry, self.heap, heapq.heappush, self.km, graph.row, graph.col
         sr, sc = row[self.start], col[self.start]
-        for u in full:
+        for u in marked:
+            if not mark[u]:
+                continue
+            mark[u] = 0
             gu, ru = g[u], rhs[u]
             if gu == ru or not inner[u]:
                 entry[u] = None
@@ -630,6 +570,10 @@ class DStarLiteSearch:
     def path_cost(self) -> float:
         """Cost (cells) of the shortest path from the start to the goal; inf if none."""
         return self.rhs[self.start] if self.start != self.goal else 0.0
+
+    def queued(self) -> list[tuple[float, float, int]]:
+        """The queue's live entries ``(k1, k2, vertex)``, least first (for tests and tools)."""
+        return sorted(e for e in self.entry if e is not None)
 
     def path(self, max_len: int | None = None, join: dict[tuple[int, int], int] | None = None,
              tail: list[tuple[int, int]] | None = None) -> list[tuple[int, int]]:
@@ -647,55 +591,154 @@ class DStarLiteSearch:
                     return out[:i + 1] + tail[join[out[i]] + 1:]
         return out
 
-    def descend(self, max_len: int | None = None, join: dict[int, int] | None = None,
+    def descend(self, max_len: int | None = None, index: np.ndarray | None = None,
                 after: int = -1) -> list[int]:
         """Flat indices from the start to the goal (at most ``max_len``) by descending
-        ``c + g``, the first of equal successors in :data:`MOVES`' order; [] if there is none.
-        With ``join`` (flat index -> index in a path), it stops at the first cell after the
-        start that ``join`` maps above ``after``."""
+        ``c + g``, the first of equal successors in :data:`MOVES`' order; [] if there is none
+        (:func:`~nav_bench.planners.dstar_loops.descend`). With ``index`` (flat index -> index
+        in a path, -1 off it), it stops at the first cell after the start that ``index`` maps
+        above ``after``."""
         if self.path_cost == INF:
             return []
-        cost, g, w, goal = self.graph.cost, self.g, self.graph.width, self.goal
-        s, out, seen = self.start, [self.start], {self.start}
-        limit = max_len or len(g)
-        while s != goal and len(out) < limit:
-            if join is not None and len(out) > 1 and join.get(s, -1) > after:
-                break
-            right, up, left, down = cost[s + 1], cost[s + w], cost[s - 1], cost[s - w]
-            best, nxt = right + g[s + 1], s + 1
-            val = up + g[s + w]
-            if val < best:
-                best, nxt = val, s + w
-            val = left + g[s - 1]
-            if val < best:
-                best, nxt = val, s - 1
-            val = down + g[s - w]
-            if val < best:
-                best, nxt = val, s - w
-            if up != INF:
-                if right != INF:
-                    val = SQRT2 * cost[s + w + 1] + g[s + w + 1]
-                    if val < best:
-                        best, nxt = val, s + w + 1
-                if left != INF:
-                    val = SQRT2 * cost[s + w - 1] + g[s + w - 1]
-                    if val < best:
-                        best, nxt = val, s + w - 1
-            if down != INF:
-                if left != INF:
-                    val = SQRT2 * cost[s - w - 1] + g[s - w - 1]
-                    if val < best:
-                        best, nxt = val, s - w - 1
-                if right != INF:
-                    val = SQRT2 * cost[s - w + 1] + g[s - w + 1]
-                    if val < best:
-                        best, nxt = val, s - w + 1
-            if best == INF or nxt in seen:
-                return []
-            seen.add(nxt)
-            out.append(nxt)
-            s = nxt
-        return out
+        return descend(self.graph.cost, self.g, self.graph.width, self.start, self.goal,
+                       max_len or len(self.g), _NO_ROWS if index is None else index, after, self._scratch)
+
+SEARCH_KERNELS = ("auto", "python", "numba")  # choices of DStarLite's search_kernel
+
+
+@functools.cache
+def load_kernels() -> ModuleType | None:
+    """:mod:`nav_bench.planners.dstar_kernels`, or None when Numba cannot be imported (the
+    ``fast`` extra is not installed, or this Numba does not support this NumPy). Imported on
+    first use only (Numba's import takes ~0.3 s); remembered, as the import itself is."""
+    try:
+        from nav_bench.planners import dstar_kernels
+    except ImportError:
+        return None
+    return dstar_kernels
+
+
+def make_search(cost: np.ndarray, start: Sequence[int], goal: Sequence[int],
+                kernel: str = "python") -> DStarLiteSearch:
+    """A D* Lite search with the loops of ``kernel``: ``python`` (:class:`DStarLiteSearch`),
+    ``numba`` (:class:`CompiledSearch`; an :class:`~nav_bench.errors.InputError` without
+    Numba) or ``auto`` (numba when it can be imported, else python). Both give the same
+    ``g``, ``rhs``, expansions and paths, bit for bit."""
+    if kernel not in SEARCH_KERNELS:
+        raise InputError(f"search kernel must be one of {list(SEARCH_KERNELS)}, got {kernel!r}")
+    if kernel == "python":
+        return DStarLiteSearch(cost, start, goal)
+    if kernel == "auto" and load_kernels() is None:
+        return DStarLiteSearch(cost, start, goal)
+    return CompiledSearch(cost, start, goal)
+
+
+class CompiledSearch(DStarLiteSearch):
+    """:class:`DStarLiteSearch` with :meth:`compute`, :meth:`set_costs`' loop and
+    :meth:`descend` run by the Numba kernels of :mod:`nav_bench.planners.dstar_kernels` (the
+    same operations in the same order: the same results, bit for bit).
+
+    The state lives in NumPy arrays the kernels update in place: :attr:`g`, :attr:`rhs` and
+    ``graph.cost`` (which is ``graph.cost_array``) are float arrays instead of lists, and the
+    queue is an indexed binary heap (``_heap``, ``_pos``, ``_k1``, ``_k2``, ``_size``) instead
+    of ``heap``/``entry``: :meth:`queued` lists it. Without Numba: an
+    :class:`~nav_bench.errors.InputError`.
+    """
+
+    def __init__(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int]) -> None:
+        if load_kernels() is None:
+            raise InputError("search_kernel 'numba' needs Numba: pip install 'nav-bench[fast]'")
+        self.graph = graph = GridGraph(cost)
+        graph.cost = graph.cost_array  # type: ignore[assignment]  # one array both sides read
+        n = len(graph.cost_array)
+        self.g = np.full(n, INF)  # type: ignore[assignment]
+        self.rhs = np.full(n, INF)  # type: ignore[assignment]
+        self.rhs[graph.frame] = -INF
+        self._inner = np.frombuffer(graph.inner, dtype=np.uint8)
+        self._heap = np.zeros(n, dtype=np.int64)  # heap[:size[0]]: the queued vertices
+        self._pos = np.full(n, -1, dtype=np.int64)  # each vertex's place in the heap (-1: none)
+        self._k1, self._k2 = np.zeros(n), np.zeros(n)  # each queued vertex's key
+        self._size = np.zeros(1, dtype=np.int64)
+        self._scratch = np.zeros(n, dtype=np.int8)  # the kernels' marks, all 0 between calls
+        self._no_join = np.zeros(0, dtype=np.int64)  # descend without a path to join
+        self.km = 0.0
+        self.goal = graph.index(goal)
+        self.start = graph.index(start)
+        self.last = self.start
+        self.expansions = 0
+        self.touched: list[int] | None = None
+        self.steps = 0
+        self.settled = False
+        self.rhs[self.goal] = 0.0
+        self._update_vertex(self.goal)
+
+    @property
+    def _kernels(self) -> ModuleType:
+        """:mod:`nav_bench.planners.dstar_kernels` (looked up, not kept: a search pickles)."""
+        return load_kernels()  # type: ignore[return-value]
+
+    def _queue(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        return self._heap, self._pos, self._k1, self._k2, self._size
+
+    def _update_vertex(self, u: int) -> None:
+        self._kernels.update_vertex(self.g, self.rhs, *self._queue(), u, self.start,
+                                    self.graph.width, self.km)
+
+    def _recompute_rhs(self, s: int) -> float:
+        return float(self._kernels.recompute_rhs(self.graph.cost_array, self.g, self.graph.width, s))
+
+    def compute(self, max_expansions: int | None = None) -> int:
+        budget = -1 if max_expansions is None else int(max_expansions)
+        done, steps, settled, touched = self._kernels.compute(
+            self.g, self.rhs, self.graph.cost_array, *self._queue(), self.start, self.graph.width,
+            self.km, budget)
+        self.settled = bool(settled)
+        if self.touched is not None:
+            self.touched.extend(touched.tolist())
+        self.expansions += done
+        self.steps += steps
+        return int(done)
+
+    def plan_from_scratch(self) -> None:
+        self.g, self.rhs = self._costs_to_go()  # type: ignore[assignment]
+        self._pos[:] = -1
+        self._size[0] = 0
+        self.settled = True
+
+    def set_costs(self, rows: Iterable[int], cols: Iterable[int], values: Iterable[float]) -> int:
+        graph = self.graph
+        w = graph.width
+        flat = np.ascontiguousarray(
+            ((np.asarray(rows, dtype=np.int64) + 1) * w + np.asarray(cols, dtype=np.int64) + 1).reshape(-1))
+        vals = np.ascontiguousarray(np.asarray(values, dtype=float).reshape(-1))
+        if len(flat) != len(vals):
+            raise ValueError(f"{len(flat)} cells but {len(vals)} costs")
+        km = self.km + graph.octile(self.last, self.start)  # km's growth, if anything changes
+        changed = self._kernels.set_costs(flat, vals, graph.cost_array, self.g, self.rhs, self._inner,
+                                          *self._queue(), self._scratch, w, self.goal, self.start, km)
+        if not changed:
+            return 0
+        if self.touched is not None:
+            self.touched.extend(changed)
+        self.km, self.last = km, self.start
+        return len(changed)
+
+    @property
+    def path_cost(self) -> float:
+        return float(self.rhs[self.start]) if self.start != self.goal else 0.0
+
+    def queued(self) -> list[tuple[float, float, int]]:
+        heap = self._heap[:self._size[0]].tolist()
+        return sorted((float(self._k1[u]), float(self._k2[u]), u) for u in heap)
+
+    def descend(self, max_len: int | None = None, index: np.ndarray | None = None,
+                after: int = -1) -> list[int]:
+        if self.path_cost == INF:
+            return []
+        graph = self.graph
+        return self._kernels.descend(graph.cost_array, self.g, graph.width, self.start, self.goal,
+                                     max_len or len(self.g), self._no_join if index is None else index,
+                                     after, self._scratch)
 
 
 def astar(cost: np.ndarray, start: Sequence[int], goal: Sequence[int]
@@ -755,20 +798,21 @@ class PathRepair:
     path's steps after the last one next to such a cell are still the descent, so the new
     path descends from the robot only until it meets the old one beyond that point. With
     ``scratch`` (the default) the first plan and every :meth:`restart` are
-    :meth:`DStarLiteSearch.plan_from_scratch`.
+    :meth:`DStarLiteSearch.plan_from_scratch`. ``kernel`` chooses the search's loops
+    (:func:`make_search`: python, numba or auto).
     """
 
     def __init__(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int],
                  budget: int = 0, keep: int = 30, lethal: float = INF, prefix: int = 0,
-                 scratch: bool = True) -> None:
+                 scratch: bool = True, kernel: str = "python") -> None:
         self.budget, self.keep, self.lethal, self.prefix = budget, keep, lethal, prefix
-        self.scratch = scratch
+        self.scratch, self.kernel = scratch, kernel
         self.version = 0  # counts path extractions
         self._new_search(cost, start, goal)
         self.cycle(tuple(start))
 
     def _new_search(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int]) -> None:
-        self.search = DStarLiteSearch(cost, start, goal)
+        self.search = make_search(cost, start, goal, self.kernel)
         if self.scratch:
             self.search.plan_from_scratch()
         self.search.touched = []
@@ -886,7 +930,7 @@ class PathRepair:
                 near = np.unique(np.asarray(touched, dtype=np.int64))
                 near = (near[:, None] + graph.block[None, :]).ravel()
                 after = int(self._index[near].max())
-            flat = search.descend(self.prefix or None, join=where, after=after)
+            flat = search.descend(self.prefix or None, index=self._index, after=after)
         self._index[self._flat] = -1
         g, w = search.g, graph.width
         cells = [(v // w - 1, v % w - 1) for v in flat]
@@ -948,6 +992,10 @@ class DStarLite(Planner):
               "as the 4th power to 1 at radius + passage_margin + inflation_margin", minimum=1.0),
         Param("expansions_per_cycle", 250, "-", "D* Lite expansions per control cycle; an unfinished "
               "repair continues next cycle (0: unlimited)", minimum=0),
+        # the same rows either way (tests/planners/test_dstar_kernels.py); numba: ~3x less CPU per repair
+        Param("search_kernel", "auto", "-", "the search's loops: 'numba' compiled (the optional 'fast' "
+              "extra), 'python', or 'auto' (numba when it can be imported); the results are the same",
+              choices=SEARCH_KERNELS, neutral=True),
         Param("lookahead", 0.5, "m", "pure-pursuit lookahead distance along the path", minimum=0.05),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the path is farther off the heading",
               minimum=0.0, maximum=180.0),
@@ -1033,7 +1081,7 @@ class DStarLite(Planner):
         self.goal_xy = np.asarray(obs.goal, dtype=float)
         start = self._clamp(self.grid.world_to_cell(obs.pose[:2]))
         self.repair = PathRepair(self.cost, start, self.goal_rc, budget=p.expansions_per_cycle,
-                                 lethal=p.inflated_cost, prefix=PATH_PREFIX)
+                                 lethal=p.inflated_cost, prefix=PATH_PREFIX, kernel=p.search_kernel)
         self._path_id = -1
         self._xy_full = np.zeros((0, 2))
         self._refresh_xy()

@@ -481,6 +481,7 @@ class DWAGlobal(DStarLite, DWA):
         _DSTAR["inflated_cost"],
         _DSTAR["clearance_cost"],
         _DSTAR["expansions_per_cycle"],
+        _DSTAR["search_kernel"],
         # 0.6, not 1.0: DWA heads for the local goal in a straight line, and a goal 1 m along a
         # path that rounds a wall's end draws that line across the corner; in 1.1 m corridors
         # the robot then loops, blocked (tests/planners/test_dwa.py, the U-turn;

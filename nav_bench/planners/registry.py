@@ -19,6 +19,7 @@ from typing import Any
 import yaml
 
 from nav_bench.errors import InputError, SpecError, UnknownNameError
+from nav_bench.ids import params_id
 from nav_bench.paths import find, shipped
 from nav_bench.planners.base import ParamError, Planner, resolve_params
 from nav_bench.specs import PlannerSetSpec
@@ -212,3 +213,19 @@ def full_params(spec: PlannerSetSpec, registry: PlannerRegistry | None = None) -
     """The parameter set with every default filled in (what the result row records)."""
     cls = (registry or default_registry()).get(spec.planner)
     return resolve_params(cls, spec.params)
+
+
+def identity_params(planner: str, params: dict[str, Any],
+                    registry: PlannerRegistry | None = None) -> dict[str, Any]:
+    """``params`` without the planner's neutral parameters (:attr:`Param.neutral`: they change
+    how it computes, not what): the part the ids of a parameter set and of its jobs hash, so
+    that adding or changing one changes no episode's id or random stream."""
+    cls = (registry or default_registry()).get(planner)
+    neutral = {p.name for p in cls.params if p.neutral}
+    return {k: v for k, v in params.items() if k not in neutral}
+
+
+def set_id(planner: str, params: dict[str, Any], registry: PlannerRegistry | None = None) -> str:
+    """The id of a full parameter set (:func:`~nav_bench.ids.params_id`) of its
+    :func:`identity_params`."""
+    return params_id(planner, identity_params(planner, params, registry))

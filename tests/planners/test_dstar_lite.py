@@ -25,6 +25,8 @@ from nav_bench.planners.dstar_lite import (
     cell_costs,
     clearance_costs,
     disk,
+    load_kernels,
+    make_search,
     obstacle_distance,
     uniform_costs_to_go,
 )
@@ -36,6 +38,13 @@ from nav_bench.world.load import load_world
 ROOT = Path(__file__).resolve().parents[2]
 
 INF = math.inf
+
+
+@pytest.fixture(params=["python", pytest.param("numba", marks=pytest.mark.skipif(
+    load_kernels() is None, reason="numba is not installed (the 'fast' extra)"))])
+def kernel(request: pytest.FixtureRequest) -> str:
+    """The search's loops (DStarLite's search_kernel): every search test runs on both."""
+    return request.param
 
 
 def path_cost(cost: np.ndarray, path: list[tuple[int, int]]) -> float:
@@ -52,7 +61,7 @@ def path_cost(cost: np.ndarray, path: list[tuple[int, int]]) -> float:
 
 
 @pytest.mark.parametrize("seed", range(6))
-def test_incremental_repair_matches_a_star_from_scratch(seed: int) -> None:
+def test_incremental_repair_matches_a_star_from_scratch(seed: int, kernel: str) -> None:
     rng = np.random.default_rng(seed)
     h, w = (int(v) for v in rng.integers(15, 45, 2))
     occ = rng.random((h, w)) < 0.2
@@ -60,7 +69,7 @@ def test_incremental_repair_matches_a_star_from_scratch(seed: int) -> None:
     cost = cell_costs(occ, 1.0, 4.0)
     start, goal = (0, 0), (h - 1, w - 1)
     cost[start] = cost[goal] = 1.0
-    search = DStarLiteSearch(cost, start, goal)
+    search = make_search(cost, start, goal, kernel=kernel)
     search.compute()
     checked = 0
     for _ in range(15):
@@ -86,7 +95,7 @@ def test_incremental_repair_matches_a_star_from_scratch(seed: int) -> None:
     assert checked >= 3
 
 
-def test_a_star_on_a_hand_made_grid() -> None:
+def test_a_star_on_a_hand_made_grid(kernel: str) -> None:
     cost = np.ones((3, 5))
     cost[0:2, 2] = INF  # a wall with a gap at the top row
     c, path = astar(cost, (0, 0), (0, 4))
@@ -95,13 +104,13 @@ def test_a_star_on_a_hand_made_grid() -> None:
     assert c == pytest.approx(2 * math.sqrt(2) + 4.0)
     assert path[0] == (0, 0) and path[-1] == (0, 4) and (2, 2) in path
     assert path_cost(cost, path) == pytest.approx(c)
-    search = DStarLiteSearch(cost, (0, 0), (0, 4))
+    search = make_search(cost, (0, 0), (0, 4), kernel=kernel)
     search.compute()
     assert search.path_cost == pytest.approx(c)
     assert astar(np.full((2, 2), INF), (0, 0), (1, 1))[0] == INF
 
 
-def test_repair_expands_far_fewer_cells_than_planning_again() -> None:
+def test_repair_expands_far_fewer_cells_than_planning_again(kernel: str) -> None:
     # a comb of walls with alternating gaps: a long winding route, expensive to plan anew
     n = 60
     occ = np.zeros((n, n), dtype=bool)
@@ -111,7 +120,7 @@ def test_repair_expands_far_fewer_cells_than_planning_again() -> None:
         occ[gap, c] = False
     cost = cell_costs(occ, 1.0, 5.0)
     goal = (n // 2, n - 3)
-    search = DStarLiteSearch(cost, (n // 2, 2), goal)
+    search = make_search(cost, (n // 2, 2), goal, kernel=kernel)
     search.compute()
     repaired, from_scratch = [], []
     for _ in range(6):  # walk 4 cells, then a 5-cell wall appears 8 cells ahead on the path
@@ -122,7 +131,7 @@ def test_repair_expands_far_fewer_cells_than_planning_again() -> None:
         cost[rows, cols] = INF
         search.set_costs(rows, cols, cost[rows, cols])
         repaired.append(search.compute())
-        fresh = DStarLiteSearch(cost, path[4], goal)
+        fresh = make_search(cost, path[4], goal, kernel=kernel)
         from_scratch.append(fresh.compute())
         assert search.path_cost == pytest.approx(fresh.path_cost, abs=1e-9)
     assert max(repaired) < 100 < 2000 < min(from_scratch)
@@ -232,7 +241,7 @@ def test_clearance_cost_puts_the_path_down_the_middle_of_a_corridor() -> None:
 
 # --------------------------------------------------------------------------- time slicing
 @pytest.mark.parametrize("seed", range(8))
-def test_time_sliced_repair_ends_with_the_cost_of_a_star_from_scratch(seed: int) -> None:
+def test_time_sliced_repair_ends_with_the_cost_of_a_star_from_scratch(seed: int, kernel: str) -> None:
     rng = np.random.default_rng(100 + seed)
     h, w = (int(v) for v in rng.integers(20, 50, 2))
     occ = rng.random((h, w)) < 0.15
@@ -245,7 +254,7 @@ def test_time_sliced_repair_ends_with_the_cost_of_a_star_from_scratch(seed: int)
         return c
 
     cost = costs(occ)
-    repair = PathRepair(cost, start, goal, budget=7, lethal=50.0)
+    repair = PathRepair(cost, start, goal, budget=7, lethal=50.0, kernel=kernel)
     checked = 0
     for _ in range(12):
         cells = repair.cells
@@ -275,9 +284,9 @@ def test_time_sliced_repair_ends_with_the_cost_of_a_star_from_scratch(seed: int)
     assert checked >= 3
 
 
-def test_a_robot_moving_along_its_path_only_advances_an_offset() -> None:
+def test_a_robot_moving_along_its_path_only_advances_an_offset(kernel: str) -> None:
     cost = np.ones((10, 30))
-    repair = PathRepair(cost, (5, 0), (5, 29))
+    repair = PathRepair(cost, (5, 0), (5, 29), kernel=kernel)
     first = repair.full_path
     version = repair.version
     repair.cycle((5, 3))
@@ -318,32 +327,32 @@ def consistent(search: DStarLiteSearch) -> bool:
                if graph.inner[s] and s != search.goal)
 
 
-def test_uniform_costs_to_go_adds_the_steps_as_the_search_does() -> None:
+def test_uniform_costs_to_go_adds_the_steps_as_the_search_does(kernel: str) -> None:
     field = uniform_costs_to_go(5, 6, (0, 0))
     s2 = math.sqrt(2)
     assert field[0, 0] == 0.0 and field[0, 4] == 4.0 and field[2, 2] == s2 + s2
     # (row 3, col 2): a straight step then two diagonals, or a diagonal first: the smaller sum
     assert field[3, 2] == min(1.0 + (s2 + s2), s2 + (1.0 + s2))
     assert field[4, 5] == pytest.approx(1.0 + 4 * s2, abs=1e-12)
-    search = DStarLiteSearch(np.full((7, 9), 2.5), (6, 8), (2, 3))
+    search = make_search(np.full((7, 9), 2.5), (6, 8), (2, 3), kernel=kernel)
     search.plan_from_scratch()
-    assert search.heap == [] and search.settled
+    assert search.queued() == [] and search.settled
     assert consistent(search)  # one ulp off would queue cells at the first change
     assert search.path_cost == pytest.approx(2.5 * (4 * s2 + 1), abs=1e-12)
     assert search.compute() == 0
 
 
 @pytest.mark.parametrize("seed", range(4))
-def test_planning_at_once_equals_the_search_from_scratch(seed: int) -> None:
+def test_planning_at_once_equals_the_search_from_scratch(seed: int, kernel: str) -> None:
     rng = np.random.default_rng(200 + seed)
     h, w = (int(v) for v in rng.integers(15, 40, 2))
     cost = np.round(1.0 + 3.0 * rng.random((h, w)), 2)
     cost[rng.random((h, w)) < 0.2] = INF  # lethal cells: diagonals may not cut past them
     start, goal = (1, 1), (h - 2, w - 2)
     cost[start] = cost[goal] = 1.0
-    at_once = DStarLiteSearch(cost, start, goal)
+    at_once = make_search(cost, start, goal, kernel=kernel)
     at_once.plan_from_scratch()
-    expanded = DStarLiteSearch(cost, start, goal)
+    expanded = make_search(cost, start, goal, kernel=kernel)
     expanded.compute()
     assert at_once.path_cost == expanded.path_cost  # the same sums: equal, not just close
     assert at_once.path() == expanded.path()
@@ -360,8 +369,8 @@ def test_planning_at_once_equals_the_search_from_scratch(seed: int) -> None:
     assert at_once.path_cost == pytest.approx(expected, abs=1e-9) or expected == INF == at_once.path_cost
 
 
-def test_set_costs_counts_real_changes_and_keeps_the_last_of_a_repeated_cell() -> None:
-    search = DStarLiteSearch(np.ones((6, 6)), (0, 0), (5, 5))
+def test_set_costs_counts_real_changes_and_keeps_the_last_of_a_repeated_cell(kernel: str) -> None:
+    search = make_search(np.ones((6, 6)), (0, 0), (5, 5), kernel=kernel)
     search.plan_from_scratch()
     changed = search.set_costs([2, 2, 3, 4], [2, 2, 3, 4], [INF, 4.0, 1.0, 1.5])
     assert changed == 3  # (2, 2) twice, (3, 3) unchanged
@@ -375,19 +384,19 @@ def test_set_costs_counts_real_changes_and_keeps_the_last_of_a_repeated_cell() -
     assert search.set_costs([1], [1], [1.0]) == 0
 
 
-def test_set_costs_queues_with_the_keys_of_the_reference_formula() -> None:
+def test_set_costs_queues_with_the_keys_of_the_reference_formula(kernel: str) -> None:
     """set_costs writes the key out inline: every live queue entry is the reference key of
     its vertex (min(g, rhs), octile distance from the start, km), and a finished search has
     rhs equal to the minimum over each vertex's edges."""
     rng = np.random.default_rng(7)
     cost = rng.choice([1.0, 1.0, 2.0, 5.0, INF], size=(20, 20))
     cost[19, 19] = 1.0
-    search = DStarLiteSearch(cost, (0, 0), (19, 19))
+    search = make_search(cost, (0, 0), (19, 19), kernel=kernel)
     search.plan_from_scratch()
     search.move_start((3, 2))
     rows, cols = rng.integers(0, 19, 40), rng.integers(0, 19, 40)
     search.set_costs(rows, cols, rng.choice([1.0, 3.0, 1000.0, INF], size=40))
-    graph, live = search.graph, [e for e in search.entry if e is not None]
+    graph, live = search.graph, search.queued()
     assert len(live) > 10
     sr, sc = graph.cell(search.start)
     for k1, k2, u in live:
@@ -411,7 +420,7 @@ def test_the_planner_finds_its_cell_as_the_grid_does() -> None:
 
 
 @pytest.mark.parametrize("seed", range(4))
-def test_a_spliced_path_is_the_path_extracted_anew(seed: int) -> None:
+def test_a_spliced_path_is_the_path_extracted_anew(seed: int, kernel: str) -> None:
     rng = np.random.default_rng(300 + seed)
     h, w = 40, 60
     occ = rng.random((h, w)) < 0.08
@@ -423,7 +432,7 @@ def test_a_spliced_path_is_the_path_extracted_anew(seed: int) -> None:
         return c
 
     cost = costs(occ)
-    repair = PathRepair(cost, start, goal)
+    repair = PathRepair(cost, start, goal, kernel=kernel)
     descents: list[int] = []
     descend = repair.search.descend
 

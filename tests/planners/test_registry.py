@@ -114,3 +114,21 @@ def test_a_file_of_defaults_equals_the_planners_params(stem: str, complete: bool
     assert spec.params == {name: defaults[name] for name in spec.params}
     if complete:
         assert set(spec.params) == set(defaults)
+
+
+def test_a_neutral_parameter_is_left_out_of_the_ids() -> None:
+    """D* Lite's search_kernel changes how it computes, not what: the parameter set's id (and
+    so the episodes' random streams and job ids) is that of the set without it, and it is the
+    same whichever kernel is asked for; any other parameter changes the id."""
+    from nav_bench.ids import params_id
+    from nav_bench.specs import PlannerSetSpec
+
+    def full(**params: object) -> dict:
+        return reg.full_params(PlannerSetSpec(planner="dstar_lite", params=params))
+
+    auto, python = full(), full(search_kernel="python")
+    assert auto["search_kernel"] == "auto" and python["search_kernel"] == "python"  # rows record it
+    without = {k: v for k, v in auto.items() if k != "search_kernel"}
+    assert reg.identity_params("dstar_lite", python) == without
+    assert reg.set_id("dstar_lite", auto) == reg.set_id("dstar_lite", python) == params_id("dstar_lite", without)
+    assert reg.set_id("dstar_lite", full(lookahead=0.6)) != reg.set_id("dstar_lite", auto)
