@@ -630,7 +630,22 @@ def make_search(cost: np.ndarray, start: Sequence[int], goal: Sequence[int],
         return DStarLiteSearch(cost, start, goal)
     if kernel == "auto" and load_kernels() is None:
         return DStarLiteSearch(cost, start, goal)
-    return CompiledSearch(cost, start, goal)
+    search = CompiledSearch(cost, start, goal)
+    _load_compiled_code()
+    return search
+
+
+@functools.cache
+def _load_compiled_code() -> None:
+    """Call every kernel once, on a 3 x 3 grid, so that Numba loads their machine code from its
+    cache (or compiles it) now, while the planner is set up, once per process: left to the
+    first call, it made the first control cycle last ~1 s."""
+    search = CompiledSearch(np.ones((3, 3)), (0, 0), (2, 2))
+    search.plan_from_scratch()
+    search.set_costs([1], [1], [2.0])
+    search.compute()
+    search.descend()
+    search._recompute_rhs(search.graph.index((1, 1)))
 
 
 class CompiledSearch(DStarLiteSearch):
