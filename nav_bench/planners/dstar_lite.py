@@ -87,7 +87,7 @@ from scipy import ndimage
 from nav_bench.errors import InputError
 from nav_bench.interface import Command, GridState, Observation, StuckReason, wrap_angle
 from nav_bench.mapping.occupancy import SONAR_MODELS, OccupancyGrid
-from nav_bench.planners.base import Param, Planner
+from nav_bench.planners.base import Param, ParamError, Planner
 from nav_bench.planners.carving import SeeThroughCarving
 from nav_bench.planners.dstar_loops import _K, _Q, FULL, apply_costs, descend, recompute_rhs
 from nav_bench.planners.follow import STOP, arrival_speed, pure_pursuit, steer
@@ -1038,6 +1038,15 @@ class DStarLite(Planner):
         Param("no_path_recoveries", 3, "-", "recoveries per episode when there is no path: rotate to "
               "re-sense, then clear the map if there is still none", minimum=0),
     )
+
+    @classmethod
+    def check_rules(cls, p: dict[str, Any]) -> None:
+        # 'numba' asks for what this installation may not have: say so before anything is
+        # simulated (in a reset it would end every episode as an error)
+        if p["search_kernel"] == "numba" and load_kernels() is None:
+            raise ParamError("search_kernel 'numba' needs Numba, which is not installed (or does not "
+                             "support this NumPy): pip install 'nav-bench[fast]', or use 'auto'",
+                             "search_kernel")
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
         super().reset(obs, rng)

@@ -179,3 +179,22 @@ def test_without_numba_auto_is_python(monkeypatch: pytest.MonkeyPatch) -> None:
     assert type(dstar_lite.make_search(cost, (0, 0), (4, 4), "auto")) is DStarLiteSearch
     with pytest.raises(InputError, match="fast"):
         dstar_lite.make_search(cost, (0, 0), (4, 4), "numba")
+
+
+def test_numba_asked_for_without_numba_is_a_parameter_error_naming_file_key_and_line(
+        monkeypatch: pytest.MonkeyPatch, tmp_path) -> None:
+    """Checked when the parameter set is read, before anything is simulated (in the planner's
+    reset it would end every episode as an error row)."""
+    import nav_bench.planners.dstar_lite as dstar_lite
+    from nav_bench.errors import SpecError
+    from nav_bench.planners.registry import load_planner_set
+
+    monkeypatch.setattr(dstar_lite, "load_kernels", lambda: None)
+    path = tmp_path / "fast.yaml"
+    path.write_text("planner: dwa_global\nparams:\n  search_kernel: numba\n")
+    with pytest.raises(SpecError) as err:
+        load_planner_set(path)
+    assert (str(err.value.file), err.value.key_path, err.value.line) == (str(path), "params.search_kernel", 3)
+    assert "pip install 'nav-bench[fast]'" in str(err.value)
+    path.write_text("planner: dwa_global\nparams:\n  search_kernel: auto\n")
+    assert load_planner_set(path).params == {"search_kernel": "auto"}
