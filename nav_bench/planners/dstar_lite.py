@@ -1419,11 +1419,15 @@ class DStarLite(Planner):
 
     def debug_state(self) -> dict[str, Any]:
         """The occupancy grid (:class:`~nav_bench.interface.GridState`, so plots draw it),
-        ``cost`` (H, W) step-cost factors (inf lethal), ``path`` (N, 2) m."""
+        ``cost`` (H, W) step-cost factors (inf lethal), ``path`` (N, 2) m, and ``search_kernel``,
+        the loops that ran (``numba`` or ``python``: ``auto`` resolved; the trace keeps it, as an
+        episode's CPU time depends on it)."""
         if not hasattr(self, "grid"):
             return {}
         grids = GridState(pmo=self.grid.values(), bounds=self.grid.bounds, cell=self.grid.cell)
-        return {**grids.state(), "cost": self.cost.copy(), "path": self.path_xy.copy()}
+        kernel = "numba" if isinstance(self.repair.search, CompiledSearch) else "python"
+        return {**grids.state(), "cost": self.cost.copy(), "path": self.path_xy.copy(),
+                "search_kernel": kernel}
 
 
 def _path_changed(old: list[tuple[int, int]], new: list[tuple[int, int]]) -> bool:

@@ -528,8 +528,8 @@ class DWAGlobal(DStarLite, DWA):
         return path[far[0]].copy() if len(far) else path[-1].copy()
 
     def debug_state(self) -> dict[str, Any]:
-        """D* Lite's ``pmo``, ``bounds``, ``cell``, ``cost`` and ``path`` with DWA's ``memory`` and
-        ``target``."""
+        """D* Lite's ``pmo``, ``bounds``, ``cell``, ``cost``, ``path`` and ``search_kernel`` with
+        DWA's ``memory`` and ``target``."""
         if not hasattr(self, "memory"):
             return {}
         return {**DStarLite.debug_state(self), "memory": self.memory.points(),

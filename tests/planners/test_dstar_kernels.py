@@ -198,3 +198,19 @@ def test_numba_asked_for_without_numba_is_a_parameter_error_naming_file_key_and_
     assert "pip install 'nav-bench[fast]'" in str(err.value)
     path.write_text("planner: dwa_global\nparams:\n  search_kernel: auto\n")
     assert load_planner_set(path).params == {"search_kernel": "auto"}
+
+
+@pytest.mark.parametrize("asked", ["auto", "python", "numba"])
+def test_the_state_says_which_loops_ran(asked: str) -> None:
+    """``auto`` resolved: the trace keeps the kernel that ran, on which an episode's CPU depends."""
+    from nav_bench.interface import Observation
+    from nav_bench.planners.dstar_lite import DStarLite
+    from nav_bench.testing.harness import default_robot
+
+    if asked != "python" and load_kernels() is None:
+        pytest.skip("numba is not installed (the 'fast' extra)")
+    planner = DStarLite(search_kernel=asked)
+    obs = Observation(t=0.0, pose=np.array([1.0, 1.0, 0.0]), goal=np.array([3.5, 1.0]),
+                      ranges=np.full(6, 3.0), robot=default_robot(), bounds=(0.0, 0.0, 4.0, 2.0), dt=0.1)
+    planner.reset(obs, np.random.default_rng(0))
+    assert planner.debug_state()["search_kernel"] == ("python" if asked == "python" else "numba")
