@@ -250,6 +250,11 @@ class GridGraph:
     def index(self, rc: Sequence[int]) -> int:
         return (int(rc[0]) + 1) * self.width + int(rc[1]) + 1
 
+    def flat(self, rows: Iterable[int], cols: Iterable[int]) -> np.ndarray:
+        """(N,) int64 flat indices of the cells ``rows``, ``cols`` (:meth:`index` of each)."""
+        return (np.asarray(rows, dtype=np.int64).reshape(-1) + 1) * self.width \
+            + np.asarray(cols, dtype=np.int64).reshape(-1) + 1
+
     def cell(self, idx: int) -> tuple[int, int]:
         r, c = divmod(idx, self.width)
         return r - 1, c - 1
@@ -321,13 +326,7 @@ class DStarLiteSearch:
 
     def __init__(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int]) -> None:
         self.graph = GridGraph(cost)
-        n = len(self.graph.cost)
-        self.g: list[float] = [INF] * n
-        self.rhs: list[float] = [INF] * n
-        for s in self.graph.frame.tolist():
-            self.rhs[s] = -INF
-        self.entry: list[tuple[float, float, int] | None] = [None] * n  # live queue entry or None
-        self.heap: list[tuple[float, float, int]] = []
+        self._new_state(len(self.graph.cost))
         self.km = 0.0
         self.goal = self.graph.index(goal)
         self.start = self.graph.index(start)
@@ -336,9 +335,28 @@ class DStarLiteSearch:
         self.touched: list[int] | None = None  # with a list, compute() appends each vertex whose g it sets
         self.steps = 0  # queue steps (expansions and re-keyings) over all compute() calls
         self.settled = False  # did the last compute() finish (not stopped by its budget)?
-        self._scratch = bytearray(n)  # marks of set_costs and descend: all 0 between calls
         self.rhs[self.goal] = 0.0
         self._update_vertex(self.goal)
+
+    def _new_state(self, n: int) -> None:
+        """``g`` and ``rhs`` (``-inf`` on the frame), the queue and the scratch marks of ``n``
+        vertices, as Python lists (:class:`CompiledSearch`: arrays)."""
+        self.g: list[float] = [INF] * n
+        self.rhs: list[float] = [INF] * n
+        for s in self.graph.frame.tolist():
+            self.rhs[s] = -INF
+        self.entry: list[tuple[float, float, int] | None] = [None] * n  # live queue entry or None
+        self.heap: list[tuple[float, float, int]] = []
+        self._scratch = bytearray(n)  # marks of set_costs and descend: all 0 between calls
+
+    def _cells_and_costs(self, rows: Iterable[int], cols: Iterable[int],
+                         values: Iterable[float]) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`set_costs`' cells as flat indices and their new costs, (N,) each."""
+        flat = self.graph.flat(rows, cols)
+        vals = np.asarray(values, dtype=float).reshape(-1)
+        if len(flat) != len(vals):
+            raise ValueError(f"{len(flat)} cells but {len(vals)} costs")
+        return flat, vals
 
     # -- queue (lazy deletion) ---------------------------------------------------------------------
     def _update_vertex(self, u: int) -> None:
@@ -531,11 +549,8 @@ class DStarLiteSearch:
         as if they were set one by one.)"""
         graph = self.graph
         w, cost, g, rhs, inner, mark = graph.width, graph.cost, self.g, self.rhs, graph.inner, self._scratch
-        flat = ((np.asarray(rows, dtype=np.int64) + 1) * w + np.asarray(cols, dtype=np.int64) + 1).tolist()
-        values = np.asarray(values, dtype=float).reshape(-1).tolist()
-        if len(flat) != len(values):
-            raise ValueError(f"{len(flat)} cells but {len(values)} costs")
-        changed, marked = apply_costs(flat, values, cost, g, rhs, w, mark)
+        flat, vals = self._cells_and_costs(rows, cols, values)
+        changed, marked = apply_costs(flat.tolist(), vals.tolist(), cost, g, rhs, w, mark)
         if not changed:
             return 0
         if self.touched is not None:
@@ -663,9 +678,11 @@ class CompiledSearch(DStarLiteSearch):
     def __init__(self, cost: np.ndarray, start: Sequence[int], goal: Sequence[int]) -> None:
         if load_kernels() is None:
             raise InputError("search_kernel 'numba' needs Numba: pip install 'nav-bench[fast]'")
-        self.graph = graph = GridGraph(cost)
+        super().__init__(cost, start, goal)
+
+    def _new_state(self, n: int) -> None:
+        graph = self.graph
         graph.cost = graph.cost_array  # type: ignore[assignment]  # one array both sides read
-        n = len(graph.cost_array)
         self.g = np.full(n, INF)  # type: ignore[assignment]
         self.rhs = np.full(n, INF)  # type: ignore[assignment]
         self.rhs[graph.frame] = -INF
@@ -676,16 +693,6 @@ class CompiledSearch(DStarLiteSearch):
         self._size = np.zeros(1, dtype=np.int64)
         self._scratch = np.zeros(n, dtype=np.int8)  # the kernels' marks, all 0 between calls
         self._no_join = np.zeros(0, dtype=np.int64)  # descend without a path to join
-        self.km = 0.0
-        self.goal = graph.index(goal)
-        self.start = graph.index(start)
-        self.last = self.start
-        self.expansions = 0
-        self.touched: list[int] | None = None
-        self.steps = 0
-        self.settled = False
-        self.rhs[self.goal] = 0.0
-        self._update_vertex(self.goal)
 
     @property
     def _kernels(self) -> ModuleType:
@@ -723,11 +730,7 @@ class CompiledSearch(DStarLiteSearch):
     def set_costs(self, rows: Iterable[int], cols: Iterable[int], values: Iterable[float]) -> int:
         graph = self.graph
         w = graph.width
-        flat = np.ascontiguousarray(
-            ((np.asarray(rows, dtype=np.int64) + 1) * w + np.asarray(cols, dtype=np.int64) + 1).reshape(-1))
-        vals = np.ascontiguousarray(np.asarray(values, dtype=float).reshape(-1))
-        if len(flat) != len(vals):
-            raise ValueError(f"{len(flat)} cells but {len(vals)} costs")
+        flat, vals = (np.ascontiguousarray(a) for a in self._cells_and_costs(rows, cols, values))
         km = self.km + graph.octile(self.last, self.start)  # km's growth, if anything changes
         changed = self._kernels.set_costs(flat, vals, graph.cost_array, self.g, self.rhs, self._inner,
                                           *self._queue(), self._scratch, w, self.goal, self.start, km)

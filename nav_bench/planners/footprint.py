@@ -242,22 +242,21 @@ class _Mounts:
 
     def see_through(self, qx: np.ndarray, qy: np.ndarray, part: float, sonar: SonarInfo) -> np.ndarray:
         """(K,) bool: which small squares (centres ``qx``, ``qy`` (K,), side ``part``, m) one
-        of the cones sees through (:func:`seen_through`, the body aside)."""
-        ax, ay = np.cos(self.yaw + sonar.angles), np.sin(self.yaw + sonar.angles)
-        # (S, K): one row per sonar, so that the reduction over sonars ORs whole rows (a
-        # reduction over a short last axis is several times slower; the values are the same)
-        dx = qx[None, :] - self.mx[:, None]
-        dy = qy[None, :] - self.my[:, None]
-        d = np.hypot(dx, dy)
-        inside = dx * ax[:, None] + dy * ay[:, None] >= d * math.cos(sonar.cone / 2)  # within the half angle
-        inside &= d + part * math.sqrt(0.5) <= (self.r - CARVE_MARGIN)[:, None]  # the far corner nearer
+        of the cones sees through (:func:`seen_through`, the body aside): every sonar against
+        every square, :meth:`see_through_pairs` with one row per sonar."""
+        every = np.arange(len(sonar.angles))
+        shape = (len(every), len(qx))
+        # (S, K): the reduction over sonars ORs whole rows (a reduction over a short last axis
+        # is several times slower; the values are the same)
+        inside = self.see_through_pairs(np.broadcast_to(qx, shape), np.broadcast_to(qy, shape), every,
+                                        part, sonar)
         return np.logical_or.reduce(inside, axis=0)
 
     def see_through_pairs(self, qx: np.ndarray, qy: np.ndarray, sonars: np.ndarray, part: float,
                           sonar: SonarInfo) -> np.ndarray:
         """(N, P) bool: does sonar ``sonars[i]`` see through small square ``j`` (centres ``qx``,
-        ``qy`` (N, P), side ``part``, m)? :meth:`see_through` of one sonar per row, the same
-        operations on the same values (each element's result is that sonar's row of it)."""
+        ``qy`` (N, P), side ``part``, m)? The square lies within the cone's half angle and its
+        far corner nearer than the reading less ``CARVE_MARGIN``."""
         ax, ay = np.cos(self.yaw + sonar.angles), np.sin(self.yaw + sonar.angles)
         dx = qx - self.mx.take(sonars)[:, None]
         dy = qy - self.my.take(sonars)[:, None]

@@ -102,7 +102,6 @@ histogram, hence every command, is the same bit for bit as testing every sector 
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import itertools
 import math
@@ -227,16 +226,16 @@ def window_box(frame: GridFrame, xy: np.ndarray, radius: float) -> tuple[int, in
 
 
 def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
-                c_max: float) -> ActiveWindow:
+                c_max: float, box: tuple[int, int, int, int] | None = None) -> ActiveWindow:
     """The cells with certainty > 0 within ``radius`` m of ``xy``, in row-major order: the
     active window of the occupancy ``values`` (H, W) 0..100 laid out by ``frame``. Reads only
-    the window's square of the live map (:func:`window_box`), and converts only its cells
-    above 50 (certainty > 0)."""
+    the window's square of the live map (``box``: :func:`window_box`, computed when not
+    given), and converts only its cells above 50 (certainty > 0)."""
     x, y = float(xy[0]), float(xy[1])
-    rs, re, cs, ce = window_box(frame, xy, radius)
+    rs, re, cs, ce = window_box(frame, xy, radius) if box is None else box
     if rs >= re or cs >= ce:
-        none = np.zeros(0, dtype=np.intp)
-        return dataclasses.replace(ActiveWindow.of_cells(np.zeros((0, 2)), np.zeros(0), xy), rows=none, cols=none)
+        none, cells = np.zeros(0, dtype=np.intp), np.zeros(0)
+        return ActiveWindow(cells, cells, cells, cells, cells, cells, none, none)
     square = values[rs:re, cs:ce]
     above = square > UNKNOWN
     rr, cc = np.divmod(above.ravel().nonzero()[0], ce - cs)  # row-major, as np.nonzero
@@ -578,10 +577,9 @@ class VFHPlus(Planner):
         """The active window (``radius`` m round ``xy``) with the parts of its cells the
         sonars have seen through carved away (:meth:`ActiveWindow.carved`)."""
         values = self.grid.values(copy=False)
-        window = read_window(values, self.frame, xy, radius, self.settings.c_max)
-        a0, a1, b0, b1 = window_box(self.frame, xy, radius)
-        carved = self.carving.update(obs, window.rows, window.cols, (a0, a1, b0, b1),
-                                     values[a0:a1, b0:b1] > UNKNOWN)
+        box = a0, a1, b0, b1 = window_box(self.frame, xy, radius)
+        window = read_window(values, self.frame, xy, radius, self.settings.c_max, box)
+        carved = self.carving.update(obs, window.rows, window.cols, box, values[a0:a1, b0:b1] > UNKNOWN)
         return window.carved(carved.kept, carved.parts, xy)
 
     def stuck_reason(self) -> StuckReason | None:
