@@ -36,6 +36,12 @@ KIND_FOLDERS: dict[str, str] = {
 }
 
 
+def source_root() -> Path:
+    """The folder above the ``nav_bench`` package: a source checkout's repository root (in an
+    installed wheel, ``site-packages``)."""
+    return _SOURCE_ROOT
+
+
 def data_root() -> Path:
     """The folder holding the shipped ``worlds/``, ``robots/`` and ``configs/``.
 

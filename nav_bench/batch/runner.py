@@ -46,6 +46,7 @@ from nav_bench.batch.worker import EpisodeFn, JobOutcome, run_job
 from nav_bench.episode.row import ResultRow
 from nav_bench.errors import InputError, NavBenchError
 from nav_bench.interface import Outcome
+from nav_bench.paths import source_root
 
 RUN_FORMAT = 1
 
@@ -138,8 +139,10 @@ def _version(dist: str) -> str | None:
 
 
 def git_state() -> dict[str, Any] | None:
-    """Commit and dirtiness of the source tree nav-bench runs from, if it is a git checkout."""
-    root = Path(__file__).resolve().parent.parent
+    """Commit and dirtiness of the source tree nav-bench runs from, if it is a git checkout
+    (the repository above the package: this module's own folder's parent was ``nav_bench/``
+    once the runner moved into ``batch/``, so no run recorded its commit)."""
+    root = source_root()
     if not (root / ".git").exists():
         return None
     try:

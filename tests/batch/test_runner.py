@@ -241,3 +241,20 @@ def test_numpy_simd_names_the_levels_numpy_dispatches_to_after_the_environment()
     if not found:
         pytest.skip("NumPy dispatches to no SIMD level above its baseline on this machine")
     assert levels({"NPY_DISABLE_CPU_FEATURES": found[-1]}) == found[:-1]
+
+
+def test_a_run_from_a_git_checkout_records_its_commit() -> None:
+    """run.json's ``git``: the checkout nav-bench runs from (None from an installed wheel)."""
+    import subprocess
+
+    from nav_bench.batch.runner import git_state
+    from nav_bench.paths import source_root
+
+    root = source_root()
+    if not (root / ".git").exists():
+        pytest.skip("not a git checkout")
+    head = subprocess.run(["git", "-C", str(root), "rev-parse", "HEAD"], capture_output=True, text=True,
+                          check=True).stdout.strip()
+    state = git_state()
+    assert state is not None and state["commit"] == head
+    assert isinstance(state["dirty"], bool)
