@@ -17,35 +17,17 @@ vertices, ``pos[u]`` is ``u``'s place in it (-1: not queued), ``k1[u]``, ``k2[u]
 Python search keeps a ``heapq`` with lazy deletion; both pop the queued vertex with the least
 ``(k1, k2, u)``, and a vertex is queued at most once, so they pop in the same order.
 
-Imported only when a search chooses the kernel (importing Numba takes ~0.3 s). The compiled
-functions are cached on disk (``cache=True``): in ``__pycache__`` beside this file, else in
-the user's cache folder (``~/.cache/numba``), or in ``NUMBA_CACHE_DIR`` if set; where none is
-writable they are compiled in each process instead (:func:`_kernel`).
+Imported only when a search chooses the kernel (:func:`nav_bench.compiled.load`), compiled and
+cached by :func:`nav_bench.compiled.kernel`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import Any
-
 import numpy as np
-from numba import njit
 
+from nav_bench.compiled import kernel as _kernel
 from nav_bench.planners import dstar_loops as loops
 from nav_bench.planners.dstar_loops import _K, _Q, INF, SQRT2
-
-
-def _kernel(**options: Any) -> Callable[[Callable[..., Any]], Any]:
-    """``numba.njit`` with an on-disk cache, or without one where Numba finds no writable
-    cache folder (it raises at decoration then: a read-only install with no writable home)."""
-
-    def compile_(fn: Callable[..., Any]) -> Any:
-        try:
-            return njit(cache=True, **options)(fn)
-        except RuntimeError:  # "cannot cache function ...: no locator available"
-            return njit(cache=False, **options)(fn)
-
-    return compile_
 
 
 # -- the indexed heap ----------------------------------------------------------------------------

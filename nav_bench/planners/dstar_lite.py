@@ -84,6 +84,7 @@ from typing import Any, ClassVar
 import numpy as np
 from scipy import ndimage
 
+from nav_bench import compiled
 from nav_bench.errors import InputError
 from nav_bench.interface import Command, GridState, Observation, StuckReason, wrap_angle
 from nav_bench.mapping.occupancy import SONAR_MODELS, OccupancyGrid
@@ -621,16 +622,10 @@ class DStarLiteSearch:
 SEARCH_KERNELS = ("auto", "python", "numba")  # choices of DStarLite's search_kernel
 
 
-@functools.cache
 def load_kernels() -> ModuleType | None:
-    """:mod:`nav_bench.planners.dstar_kernels`, or None when Numba cannot be imported (the
-    ``fast`` extra is not installed, or this Numba does not support this NumPy). Imported on
-    first use only (Numba's import takes ~0.3 s); remembered, as the import itself is."""
-    try:
-        from nav_bench.planners import dstar_kernels
-    except ImportError:
-        return None
-    return dstar_kernels
+    """:mod:`nav_bench.planners.dstar_kernels`, or None when Numba cannot be imported
+    (:func:`nav_bench.compiled.load`)."""
+    return compiled.load("nav_bench.planners.dstar_kernels")
 
 
 def make_search(cost: np.ndarray, start: Sequence[int], goal: Sequence[int],

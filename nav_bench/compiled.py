@@ -1,0 +1,49 @@
+"""Numba for the hot loops, when it is installed (the optional ``fast`` extra).
+
+Every compiled kernel in nav-bench is an exact twin of a NumPy or Python reference that runs
+when Numba is missing: the same IEEE operations in the same order, so results are the same bit
+for bit either way (no fast-math; no ``exp``, ``arctan2`` or ``pow`` inside a kernel, whose last
+bits differ between NumPy's SIMD loops and the C library Numba calls; ``hypot``, ``sqrt``,
+``sin`` and ``cos`` agree). The kernel modules import Numba at import time; callers reach them
+through :func:`load`, which says None when Numba cannot be imported.
+
+Compiled functions are cached on disk (``cache=True``): in ``__pycache__`` beside their module,
+else in the user's cache folder (``~/.cache/numba``) or ``NUMBA_CACHE_DIR``; where none is
+writable they are compiled in each process instead (:func:`kernel`).
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib
+from collections.abc import Callable
+from types import ModuleType
+from typing import Any
+
+
+def kernel(**options: Any) -> Callable[[Callable[..., Any]], Any]:
+    """``numba.njit(**options)`` with an on-disk cache, or without one where Numba finds no
+    writable cache folder (it raises at decoration then: a read-only install with no writable
+    home). Only kernel modules call this: it imports Numba."""
+    from numba import njit
+
+    def compile_(fn: Callable[..., Any]) -> Any:
+        try:
+            return njit(cache=True, **options)(fn)
+        except RuntimeError:  # "cannot cache function ...: no locator available"
+            return njit(cache=False, **options)(fn)
+
+    return compile_
+
+
+@functools.cache
+def load(module: str) -> ModuleType | None:
+    """The kernel module ``module`` (dotted name), or None when Numba cannot be imported (the
+    ``fast`` extra is not installed, or this Numba does not support this NumPy). Imported on
+    first use only (Numba's import takes ~0.3 s), and remembered."""
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        if exc.name is not None and exc.name.split(".")[0] in ("numba", "llvmlite"):
+            return None
+        raise
