@@ -1,7 +1,7 @@
 """The default suite's worker CPU-seconds: an older revision and this tree, side by side.
 
     python benchmarks/bench_suite.py [--before REV] [--suite FILE] [--worlds W,W] [--planners L,L]
-                                     [--seeds 0,1] [--out DIR]
+                                     [--seeds 0,1] [--out DIR] [--lockstep]
 
 ``--before REV`` (default ``main``) is checked out as a git worktree in a temporary folder and
 played with ``PYTHONPATH`` pointing at it; this tree is played the same way. Both play the same
@@ -16,6 +16,13 @@ writes ``DIR/before/episodes.jsonl`` and ``DIR/after/episodes.jsonl`` (each row 
 ``bench_cpu_s``) and the traces next to them. ``--worlds``, ``--planners`` (suite labels) and
 ``--seeds`` play a subset for a quick check. Pairs are matched by (label, world, seed): job ids
 differ when the revisions' settings differ.
+
+``--lockstep``: neither process starts its next job before the other has finished the same one.
+Without it the faster side finishes early and its figures come from the first part of the run
+only; on a machine whose speed drifts within minutes (a shared VM), the two sides then see
+different machines. In lockstep both sides play job k in the same stretch of time; the faster
+one waits (sleeping, no CPU) for the slower. Only the jobs both sides play are paced: give both
+the same suite.
 """
 
 from __future__ import annotations
@@ -35,9 +42,11 @@ ROOT = Path(__file__).resolve().parents[1]
 
 # --------------------------------------------------------------------------- one tree's player
 def play(tree: Path, suite_file: Path, out: Path, worlds: set[str] | None,
-         labels: set[str] | None, seeds: set[int] | None) -> None:
+         labels: set[str] | None, seeds: set[int] | None, pace: Path | None = None) -> None:
     """Play the suite's selected jobs with the code of ``tree`` (on ``sys.path`` by
-    ``PYTHONPATH``) and append one row per job to ``out/episodes.jsonl``."""
+    ``PYTHONPATH``) and append one row per job to ``out/episodes.jsonl``. With ``pace`` (a
+    folder both players share), job k starts only once the other player has finished job k - 1
+    (:func:`wait_for_peer`)."""
     import nav_bench
     from nav_bench.batch.suite import expand, load_suite
     from nav_bench.batch.worker import execute_job, run_job
@@ -48,7 +57,9 @@ def play(tree: Path, suite_file: Path, out: Path, worlds: set[str] | None,
             and (seeds is None or j.seed in seeds)]
     (out / "traces").mkdir(parents=True, exist_ok=True)
     with (out / "episodes.jsonl").open("a") as fh:
-        for job in jobs:
+        for k, job in enumerate(jobs):
+            if pace is not None:
+                wait_for_peer(pace, out.name, k)
             cpu0, wall0 = time.process_time(), time.perf_counter()
             result = execute_job(job, run_job)
             if result.trace is not None:  # a worker writes the trace: part of its cost
@@ -58,6 +69,24 @@ def play(tree: Path, suite_file: Path, out: Path, worlds: set[str] | None,
             row["bench_wall_s"] = time.perf_counter() - wall0
             fh.write(json.dumps(row) + "\n")
             fh.flush()
+            if pace is not None:
+                (pace / out.name).write_text(str(k + 1))  # jobs finished
+
+
+def wait_for_peer(pace: Path, me: str, k: int) -> None:
+    """Sleep until the other player (its file in ``pace`` holds how many jobs it finished)
+    has finished ``k`` jobs; a player that died is waited for no longer than 15 minutes."""
+    peer = pace / ("after" if me == "before" else "before")
+    deadline = time.monotonic() + 900.0
+    while time.monotonic() < deadline:
+        try:
+            if int(peer.read_text() or 0) >= k:
+                return
+        except (FileNotFoundError, ValueError):
+            if k == 0:
+                return
+        time.sleep(0.02)
+    sys.exit(f"error: the {peer.name} player finished no job {k} in 15 minutes")
 
 
 # --------------------------------------------------------------------------- the comparison
@@ -75,6 +104,8 @@ def start_player(tree: Path, args: argparse.Namespace, out: Path) -> subprocess.
     for name in ("worlds", "planners", "seeds"):
         if getattr(args, name):
             cmd += [f"--{name}", getattr(args, name)]
+    if args.lockstep:
+        cmd += ["--pace", str(out.parent / "pace")]
     log = (out.parent / f"{out.name}.log").open("w")
     return subprocess.Popen(cmd, env=env, cwd=tree, stdout=log, stderr=subprocess.STDOUT)
 
@@ -126,20 +157,25 @@ def main() -> None:
     ap.add_argument("--planners", help="comma-separated suite labels (default: all)")
     ap.add_argument("--seeds", help="comma-separated seeds (default: all)")
     ap.add_argument("--out", type=Path, help="results folder (default: a new temporary one)")
+    ap.add_argument("--lockstep", action="store_true",
+                    help="each side starts job k only once the other has finished job k - 1")
     ap.add_argument("--play", type=Path, help=argparse.SUPPRESS)  # internal: one tree's player
+    ap.add_argument("--pace", type=Path, help=argparse.SUPPRESS)  # internal: the lockstep folder
     args = ap.parse_args()
     args.suite = args.suite.resolve()
     def pick(s: str | None) -> set[str] | None:
         return set(s.split(",")) if s else None
     if args.play is not None:
         play(args.play, args.suite, args.out, pick(args.worlds), pick(args.planners),
-             {int(s) for s in args.seeds.split(",")} if args.seeds else None)
+             {int(s) for s in args.seeds.split(",")} if args.seeds else None, args.pace)
         return
     out = (args.out or Path(tempfile.mkdtemp(prefix="bench_suite_"))).resolve()
     out.mkdir(parents=True, exist_ok=True)
     for side in ("before", "after"):
         if (out / side / "episodes.jsonl").exists():
             sys.exit(f"error: {out / side} already holds rows; give a new --out")
+    if args.lockstep:
+        (out / "pace").mkdir(exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="bench_suite_rev_") as tmp:
         old = worktree(args.before, Path(tmp) / "before")
         try:
@@ -153,7 +189,7 @@ def main() -> None:
     if any(codes):
         sys.exit(f"error: a player failed (exit {codes}); see {out}/before.log, {out}/after.log")
     print(f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f} at the end, "
-          f"{wall:.0f} s wall; rows in {out}")
+          f"{wall:.0f} s wall{', lockstep' if args.lockstep else ''}; rows in {out}")
     report(read_rows(out / "before"), read_rows(out / "after"), args.before)
 
 
