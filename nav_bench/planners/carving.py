@@ -10,23 +10,46 @@ of those cells are free: a cone sonar's range says everything nearer inside its 
 (:func:`~nav_bench.planners.footprint.seen_through_cells`) from two different views, or under
 the body, in the last ``CARVE_MEMORY_S``. The grid itself is not changed (EO/PC read it with
 the paper's semantics). Units: m, s, rad.
+
+Two ways to compute the same records (``kernel``): the NumPy code here, the reference and the
+fallback, and its compiled twin :func:`nav_bench.planners.carving_kernels.carve_cells` (Numba,
+the optional ``fast`` extra; used when it can be imported), equal bit for bit
+(tests/planners/test_carving_kernels.py).
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
+from types import ModuleType
 
 import numpy as np
 
-from nav_bench.interface import Observation
+from nav_bench import compiled
+from nav_bench.errors import InputError
+from nav_bench.interface import Observation, RobotInfo, SonarInfo
 from nav_bench.mapping.grid import GridFrame
-from nav_bench.planners.footprint import CARVE_SUB, cell_parts, pose_floats, seen_through_cells
+from nav_bench.planners.footprint import (
+    CARVE_SUB,
+    _Mounts,
+    _part_offsets,
+    cell_parts,
+    pose_floats,
+    seen_through_cells,
+)
 
 VIEW_MOVE_M, VIEW_TURN_RAD = 0.03, math.radians(5.0)  # a new view for carving: moved or turned this much
 CARVE_MEMORY_S = 3.0  # s: a part seen through this recently stays carved
 PARTS = CARVE_SUB * CARVE_SUB  # parts per cell
 INF = math.inf
+CARVING_KERNELS = ("auto", "numpy", "numba")  # choices of SeeThroughCarving's kernel
+
+
+def load_kernels() -> ModuleType | None:
+    """:mod:`nav_bench.planners.carving_kernels`, or None when Numba cannot be imported
+    (:func:`nav_bench.compiled.load`)."""
+    return compiled.load("nav_bench.planners.carving_kernels")
 
 
 @dataclass(frozen=True)
@@ -63,9 +86,20 @@ class SeeThroughCarving:
     and a ray grazing past it reads long, but not from two views. Remembered a few seconds,
     so that the obstacles do not flicker with the robot's heading; a cell the grid frees
     forgets it.
+
+    ``kernel``: ``numpy`` (this class's code), ``numba`` (the compiled twin; an
+    :class:`~nav_bench.errors.InputError` without Numba) or ``auto`` (numba when it can be
+    imported): the same records and masks bit for bit.
     """
 
-    def __init__(self, frame: GridFrame, pose: np.ndarray) -> None:
+    def __init__(self, frame: GridFrame, pose: np.ndarray, kernel: str = "auto") -> None:
+        if kernel not in CARVING_KERNELS:
+            raise InputError(f"carving kernel must be one of {list(CARVING_KERNELS)}, got {kernel!r}")
+        if kernel == "numba" and load_kernels() is None:
+            raise InputError("carving kernel 'numba' needs Numba: pip install 'nav-bench[fast]'")
+        self.compiled = kernel != "numpy" and load_kernels() is not None
+        if self.compiled:
+            _load_compiled_code()
         self.frame = frame
         parts = (*frame.shape, PARTS)
         self.carved_t = np.full(parts, -INF, dtype=np.float32)
@@ -83,6 +117,8 @@ class SeeThroughCarving:
         ``occupied_box`` (row1 - row0, col1 - col0) bool, which of its cells are occupied now:
         a noted cell in the box that is no longer occupied forgets its records."""
         self._next_view(pose_floats(obs.pose))
+        if self.compiled:
+            return self._update_compiled(obs, rows, cols, box, occupied_box)
         a0, a1, b0, b1 = box
         self._forget(a0, a1, b0, b1, occupied_box)
         # the records as one row of parts per cell, read and written by flat cell index (a
@@ -93,6 +129,23 @@ class SeeThroughCarving:
         parts = cell_parts(centres, self.frame.cell)  # (M, PARTS, 2)
         self._note(obs, flat, centres, parts)
         kept = self.carved_t.reshape(-1, PARTS)[flat] < obs.t - CARVE_MEMORY_S
+        return CarvedCells(centres, parts, kept)
+
+    def _update_compiled(self, obs: Observation, rows: np.ndarray, cols: np.ndarray,
+                         box: tuple[int, int, int, int], occupied_box: np.ndarray) -> CarvedCells:
+        """:meth:`update` after the view, by :func:`~nav_bench.planners.carving_kernels.carve_cells`."""
+        kernels: ModuleType = load_kernels()  # type: ignore[assignment]  # looked up, not kept: pickles
+        f = self.frame
+        carved, seen, views = (a.reshape(-1, PARTS) for a in (self.carved_t, self.seen_t, self.seen_view))
+        if box[1] > box[0] and box[3] > box[2]:
+            kernels.forget(carved, seen, views, self.noted, box[0], box[2], occupied_box)
+        rows, cols = np.asarray(rows, dtype=np.int64), np.asarray(cols, dtype=np.int64)
+        m = len(rows)
+        centres, parts, kept = np.empty((m, 2)), np.empty((m, PARTS, 2)), np.empty((m, PARTS), dtype=bool)
+        reading = _reading(obs, f.cell)
+        kernels.carve_cells(carved, seen, views, self.noted, rows, cols, f.xmin, f.ymin, f.cell,
+                            _part_offsets(float(f.cell)), *reading, self.view, obs.t,
+                            _as_compared(obs.t - CARVE_MEMORY_S), centres, parts, kept)
         return CarvedCells(centres, parts, kept)
 
     def _next_view(self, pose: tuple[float, float, float]) -> None:
@@ -147,3 +200,44 @@ class SeeThroughCarving:
         times[np.hypot(pa[..., 0] - x, pa[..., 1] - y) <= obs.robot.radius] = obs.t
         carved_rows[at], seen_rows[at], view_rows[at] = times, seen_at, views
 
+
+
+def _reading(obs: Observation, cell: float) -> tuple[np.ndarray, ...]:
+    """One reading as :func:`~nav_bench.planners.carving_kernels.carve_cells` takes it: mounts
+    ``mx``, ``my``, capped ranges, axis unit vectors and angles (S,) each (the same NumPy
+    arithmetic as :func:`~nav_bench.planners.footprint.seen_through_cells`), the sonar geometry
+    and the body (x, y, radius, reach of the under-the-body cell test), m and rad."""
+    sonar: SonarInfo = obs.robot.sonar
+    robot: RobotInfo = obs.robot
+    mounts = _Mounts.of(np.asarray(obs.pose, dtype=float), np.asarray(obs.ranges, dtype=float), sonar)
+    axis = mounts.yaw + sonar.angles
+    ax, ay = np.cos(axis), np.sin(axis)
+    part = cell / CARVE_SUB
+    geom = np.array([math.cos(sonar.cone / 2), sonar.cone / 2, part * math.sqrt(0.5),
+                     math.sqrt(2.0) * (cell - part) / 2])
+    body = np.array([mounts.x, mounts.y, robot.radius, robot.radius + cell * 0.75])
+    return mounts.mx, mounts.my, np.asarray(mounts.r, dtype=float), ax, ay, axis, geom, body
+
+
+def _as_compared(limit: float) -> float:
+    """``limit`` (s) as NumPy compares it with the float32 records: a Python float is rounded
+    to float32 (NEP 50's weak scalar), a NumPy float64 kept; either way exactly the value a
+    float64 comparison in the kernel must use."""
+    return float(np.result_type(np.float32, limit).type(limit))
+
+
+@functools.cache
+def _load_compiled_code() -> None:
+    """Call the kernels once, on a 3 x 3 grid, so that Numba loads their machine code from its
+    cache (or compiles it) while the planner is set up, once per process, not in the first
+    control cycle; with a C-ordered and a strided box (VFH+ passes one, D* Lite the other)."""
+    frame = GridFrame(0.0, 0.0, 0.1, 3, 3)
+    carving = SeeThroughCarving(frame, np.zeros(3), kernel="numpy")
+    carving.compiled = True  # (a "numba" carving would call this function again)
+    sonar = SonarInfo(angles=np.zeros(1), offsets=np.zeros((1, 2)), cone=0.4, min_range=0.05, max_range=3.0)
+    robot = RobotInfo(radius=0.1, wheel_base=0.2, v_max=0.5, omega_max=2.0, sonar=sonar)
+    obs = Observation(t=0.0, pose=np.zeros(3), goal=np.ones(2), ranges=np.ones(1), robot=robot,
+                      bounds=(0.0, 0.0, 0.3, 0.3), dt=0.1)
+    occupied = np.ones((3, 6), dtype=bool)
+    for box in (occupied[:, :3].copy(), occupied[:, ::2]):
+        carving.update(obs, np.array([1]), np.array([1]), (0, 3, 0, 3), box)
