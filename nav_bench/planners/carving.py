@@ -32,7 +32,6 @@ from nav_bench.interface import Observation, RobotInfo, SonarInfo
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.planners.footprint import (
     CARVE_SUB,
-    _Mounts,
     _part_offsets,
     cell_parts,
     pose_floats,
@@ -66,10 +65,11 @@ class CarvedCells:
     centres: np.ndarray
     parts: np.ndarray
     kept: np.ndarray
+    kept_xy: np.ndarray | None = None  # the kept parts' centres when the kernel has them
 
     def kept_parts(self) -> np.ndarray:
         """(K, 2) centres of the kept parts, cell by cell, m."""
-        return self.parts[self.kept]
+        return self.parts[self.kept] if self.kept_xy is None else self.kept_xy
 
 
 class SeeThroughCarving:
@@ -135,18 +135,23 @@ class SeeThroughCarving:
                          box: tuple[int, int, int, int], occupied_box: np.ndarray) -> CarvedCells:
         """:meth:`update` after the view, by :func:`~nav_bench.planners.carving_kernels.carve_cells`."""
         kernels: ModuleType = load_kernels()  # type: ignore[assignment]  # looked up, not kept: pickles
-        f = self.frame
-        carved, seen, views = (a.reshape(-1, PARTS) for a in (self.carved_t, self.seen_t, self.seen_view))
-        if box[1] > box[0] and box[3] > box[2]:
-            kernels.forget(carved, seen, views, self.noted, box[0], box[2], occupied_box)
+        f, robot = self.frame, obs.robot
+        sonar = robot.sonar
         rows, cols = np.asarray(rows, dtype=np.int64), np.asarray(cols, dtype=np.int64)
         m = len(rows)
         centres, parts, kept = np.empty((m, 2)), np.empty((m, PARTS, 2)), np.empty((m, PARTS), dtype=bool)
-        reading = _reading(obs, f.cell)
-        kernels.carve_cells(carved, seen, views, self.noted, rows, cols, f.xmin, f.ymin, f.cell,
-                            _part_offsets(float(f.cell)), *reading, self.view, obs.t,
-                            _as_compared(obs.t - CARVE_MEMORY_S), centres, parts, kept)
-        return CarvedCells(centres, parts, kept)
+        kept_xy = np.empty((m * PARTS, 2))
+        x, y, yaw = pose_floats(obs.pose)
+        part = f.cell / CARVE_SUB
+        geom = np.array([sonar.max_range, math.cos(sonar.cone / 2), sonar.cone / 2, part * math.sqrt(0.5),
+                         math.sqrt(2.0) * (f.cell - part) / 2, robot.radius, robot.radius + f.cell * 0.75])
+        k = kernels.carve_cells(self.carved_t, self.seen_t, self.seen_view, self.noted, box[0], box[2],
+                                occupied_box, rows, cols, np.array([f.xmin, f.ymin, f.cell]),
+                                _part_offsets(float(f.cell)), np.array([x, y, yaw, math.cos(yaw), math.sin(yaw)]),
+                                _floats(sonar.offsets), _floats(sonar.angles), _floats(obs.ranges), geom,
+                                self.view, obs.t, _as_compared(obs.t - CARVE_MEMORY_S), centres, parts,
+                                kept, kept_xy)
+        return CarvedCells(centres, parts, kept, kept_xy[:k])
 
     def _next_view(self, pose: tuple[float, float, float]) -> None:
         x, y, yaw = pose
@@ -202,21 +207,10 @@ class SeeThroughCarving:
 
 
 
-def _reading(obs: Observation, cell: float) -> tuple[np.ndarray, ...]:
-    """One reading as :func:`~nav_bench.planners.carving_kernels.carve_cells` takes it: mounts
-    ``mx``, ``my``, capped ranges, axis unit vectors and angles (S,) each (the same NumPy
-    arithmetic as :func:`~nav_bench.planners.footprint.seen_through_cells`), the sonar geometry
-    and the body (x, y, radius, reach of the under-the-body cell test), m and rad."""
-    sonar: SonarInfo = obs.robot.sonar
-    robot: RobotInfo = obs.robot
-    mounts = _Mounts.of(np.asarray(obs.pose, dtype=float), np.asarray(obs.ranges, dtype=float), sonar)
-    axis = mounts.yaw + sonar.angles
-    ax, ay = np.cos(axis), np.sin(axis)
-    part = cell / CARVE_SUB
-    geom = np.array([math.cos(sonar.cone / 2), sonar.cone / 2, part * math.sqrt(0.5),
-                     math.sqrt(2.0) * (cell - part) / 2])
-    body = np.array([mounts.x, mounts.y, robot.radius, robot.radius + cell * 0.75])
-    return mounts.mx, mounts.my, np.asarray(mounts.r, dtype=float), ax, ay, axis, geom, body
+def _floats(values: np.ndarray) -> np.ndarray:
+    """``values`` as a C-ordered float64 array (no copy when it is one): the layout the kernels
+    are warmed up with."""
+    return np.ascontiguousarray(values, dtype=float)
 
 
 def _as_compared(limit: float) -> float:

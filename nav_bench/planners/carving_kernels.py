@@ -34,22 +34,17 @@ TWO_PI = 2 * math.pi
 
 
 @_kernel()
-def forget(carved_t: np.ndarray, seen_t: np.ndarray, seen_view: np.ndarray, noted: np.ndarray,
-           a0: int, b0: int, occupied_box: np.ndarray) -> None:
+def _forget(carved_t: np.ndarray, seen_t: np.ndarray, seen_view: np.ndarray, noted: np.ndarray,
+            a0: int, b0: int, occupied_box: np.ndarray) -> None:
     """``_forget``: every noted cell of the box (``occupied_box`` (h, w) from row ``a0``, column
-    ``b0``) that is not occupied forgets its records (``-inf`` times, view -1) and its note.
-    ``carved_t``, ``seen_t``, ``seen_view``: (H * W, PARTS) rows by flat cell."""
+    ``b0``) that is not occupied forgets its records (``-inf`` times, view -1) and its note."""
     h, w = occupied_box.shape
-    cols = noted.shape[1]
-    parts = carved_t.shape[1]
     for i in range(h):
         for j in range(w):
             if noted[a0 + i, b0 + j] and not occupied_box[i, j]:
-                f = (a0 + i) * cols + b0 + j
-                for p in range(parts):
-                    carved_t[f, p] = -np.inf
-                    seen_t[f, p] = -np.inf
-                    seen_view[f, p] = -1
+                carved_t[a0 + i, b0 + j, :] = -np.inf
+                seen_t[a0 + i, b0 + j, :] = -np.inf
+                seen_view[a0 + i, b0 + j, :] = -1
                 noted[a0 + i, b0 + j] = False
 
 
@@ -72,62 +67,94 @@ def _may_see(dx: float, dy: float, r: float, axis: float, half_cone: float, reac
 
 
 @_kernel()
-def carve_cells(carved_t: np.ndarray, seen_t: np.ndarray, seen_view: np.ndarray, noted: np.ndarray,
-                rows: np.ndarray, cols: np.ndarray, xmin: float, ymin: float, cell: float,
-                offsets: np.ndarray, mx: np.ndarray, my: np.ndarray, r: np.ndarray, ax: np.ndarray,
-                ay: np.ndarray, axis: np.ndarray, sonar_geom: np.ndarray, body: np.ndarray,
-                view: int, t: float, limit: float, centres: np.ndarray, parts: np.ndarray,
-                kept: np.ndarray) -> None:
-    """``SeeThroughCarving.update`` for the cells (``rows``, ``cols`` (M,), distinct), after
-    ``forget``: note them, fill ``centres`` (M, 2) and ``parts`` (M, PARTS, 2) (m), update the
-    records of the parts seen through (confirmed from another view within the memory: carved at
-    ``t``) or under the body, and fill ``kept`` (M, PARTS): carved before ``limit`` (s).
+def _mounts(pose: np.ndarray, offsets: np.ndarray, angles: np.ndarray, ranges: np.ndarray,
+            max_range: float) -> np.ndarray:
+    """(6, S): each sonar's mount x, y (m), capped range (m; no echo or not finite:
+    ``max_range``), axis angle (rad) and unit vector x, y: ``_Mounts.of`` and the axes of
+    ``see_through_pairs`` (``pose`` = x, y, yaw, cos yaw, sin yaw as Python computes them)."""
+    x, y, yaw, cy, sy = pose[0], pose[1], pose[2], pose[3], pose[4]
+    out = np.empty((6, angles.shape[0]))
+    for s in range(angles.shape[0]):
+        out[0, s] = x + cy * offsets[s, 0] - sy * offsets[s, 1]
+        out[1, s] = y + sy * offsets[s, 0] + cy * offsets[s, 1]
+        out[2, s] = min(ranges[s], max_range) if math.isfinite(ranges[s]) else max_range
+        out[3, s] = yaw + angles[s]
+        out[4, s] = math.cos(out[3, s])
+        out[5, s] = math.sin(out[3, s])
+    return out
 
-    The reading: mounts ``mx``, ``my`` (m), capped ranges ``r`` (m), axis unit vectors ``ax``,
-    ``ay`` and world angles ``axis`` (rad), (S,) each; ``sonar_geom`` = (cos of half the cone,
-    half the cone (rad), part's centre-to-corner (m), reach (m): centre to the farthest part
-    centre); ``body`` = (x, y, radius, reach of the under-the-body cell test), m. ``offsets``
-    (PARTS, 2): the parts' offsets from their cell's centre, m."""
+
+@_kernel()
+def carve_cells(carved_t: np.ndarray, seen_t: np.ndarray, seen_view: np.ndarray, noted: np.ndarray,
+                a0: int, b0: int, occupied_box: np.ndarray, rows: np.ndarray, cols: np.ndarray,
+                frame: np.ndarray, offsets: np.ndarray, pose: np.ndarray, sonar_offsets: np.ndarray,
+                sonar_angles: np.ndarray, ranges: np.ndarray, sonar_geom: np.ndarray, view: int,
+                t: float, limit: float, centres: np.ndarray, parts: np.ndarray, kept: np.ndarray,
+                kept_xy: np.ndarray) -> int:
+    """``SeeThroughCarving.update`` after the view is chosen: ``_forget`` in the box
+    (``occupied_box`` from row ``a0``, column ``b0``), then, for the cells (``rows``, ``cols``
+    (M,), distinct): note them, fill ``centres`` (M, 2) and ``parts`` (M, PARTS, 2) (m), update
+    the records of the parts seen through (confirmed from another view within the memory: carved
+    at ``t``) or under the body, fill ``kept`` (M, PARTS): carved before ``limit`` (s), and
+    ``kept_xy[:K]`` with the kept parts' centres, cell by cell; returns K.
+
+    ``carved_t``, ``seen_t``, ``seen_view`` (H, W, PARTS), ``noted`` (H, W): the records.
+    ``frame`` = (xmin, ymin, cell) m; ``offsets`` (PARTS, 2): the parts' offsets from their
+    cell's centre, m. ``pose`` = (x, y, yaw, cos yaw, sin yaw), m and rad. The sonars:
+    ``sonar_offsets`` (S, 2) m, ``sonar_angles`` (S,) rad, this reading's ``ranges`` (S,) m;
+    ``sonar_geom`` = (max range (m), cos of half the cone, half the cone (rad), a part's
+    centre-to-corner (m), reach (m: centre to the farthest part centre), the robot's radius (m),
+    the reach of the under-the-body cell test (m))."""
+    _forget(carved_t, seen_t, seen_view, noted, a0, b0, occupied_box)
+    mounts = _mounts(pose, sonar_offsets, sonar_angles, ranges, sonar_geom[0])
+    xmin, ymin, cell = frame[0], frame[1], frame[2]
+    x, y = pose[0], pose[1]
+    radius, under_reach = sonar_geom[5], sonar_geom[6]
     n_parts = offsets.shape[0]
-    grid_cols = noted.shape[1]
-    cos_half, half_cone, corner, reach = sonar_geom[0], sonar_geom[1], sonar_geom[2], sonar_geom[3]
-    x, y, radius, under_reach = body[0], body[1], body[2], body[3]
     seen = np.zeros(n_parts, dtype=np.bool_)
+    k = 0
     for m in range(rows.shape[0]):
-        f = rows[m] * grid_cols + cols[m]
-        noted[rows[m], cols[m]] = True
-        cx = xmin + (float(cols[m]) + 0.5) * cell
-        cy = ymin + (float(rows[m]) + 0.5) * cell
+        r, c = rows[m], cols[m]
+        cx = xmin + (float(c) + 0.5) * cell
+        cy = ymin + (float(r) + 0.5) * cell
         centres[m, 0], centres[m, 1] = cx, cy
         for p in range(n_parts):
             parts[m, p, 0] = cx + offsets[p, 0]
             parts[m, p, 1] = cy + offsets[p, 1]
-        any_seen = _seen_parts(parts[m], cx, cy, mx, my, r, ax, ay, axis, cos_half, half_cone, corner,
-                               reach, seen)
+        noted[r, c] = True
+        any_seen = _seen_parts(parts[m], cx, cy, mounts, sonar_geom, seen)
         if any_seen or math.hypot(cx - x, cy - y) <= under_reach:
-            _note_cell(carved_t[f], seen_t[f], seen_view[f], parts[m], seen, x, y, radius, view, t, limit)
+            _note_cell(carved_t[r, c], seen_t[r, c], seen_view[r, c], parts[m], seen, x, y, radius, view,
+                       t, limit)
         for p in range(n_parts):
-            kept[m, p] = carved_t[f, p] < limit
+            kept[m, p] = carved_t[r, c, p] < limit
+            if kept[m, p]:
+                kept_xy[k, 0], kept_xy[k, 1] = parts[m, p, 0], parts[m, p, 1]
+                k += 1
+    return k
 
 
 @_kernel()
-def _seen_parts(pts: np.ndarray, cx: float, cy: float, mx: np.ndarray, my: np.ndarray, r: np.ndarray,
-                ax: np.ndarray, ay: np.ndarray, axis: np.ndarray, cos_half: float, half_cone: float,
-                corner: float, reach: float, seen: np.ndarray) -> bool:
+def _seen_parts(pts: np.ndarray, cx: float, cy: float, mounts: np.ndarray, sonar_geom: np.ndarray,
+                seen: np.ndarray) -> bool:
     """Fill ``seen`` (PARTS,) with which of one cell's parts (``pts`` (PARTS, 2), centre ``cx``,
     ``cy``, m) a sonar sees through (``_Mounts.see_through_pairs``, OR over the sonars the
-    pre-filter lets through); True if any."""
+    pre-filter lets through); True if any. ``mounts``: :func:`_mounts`; ``sonar_geom``: as
+    :func:`carve_cells` takes it."""
+    cos_half, half_cone, corner, reach = sonar_geom[1], sonar_geom[2], sonar_geom[3], sonar_geom[4]
     any_seen = False
     seen[:] = False
-    for s in range(mx.shape[0]):
-        if not _may_see(cx - mx[s], cy - my[s], r[s], axis[s], half_cone, reach, corner):
+    for s in range(mounts.shape[1]):
+        mx, my, r = mounts[0, s], mounts[1, s], mounts[2, s]
+        if not _may_see(cx - mx, cy - my, r, mounts[3, s], half_cone, reach, corner):
             continue
-        far = r[s] - CARVE_MARGIN
+        far = r - CARVE_MARGIN
+        ax, ay = mounts[4, s], mounts[5, s]
         for p in range(pts.shape[0]):
-            dx = pts[p, 0] - mx[s]
-            dy = pts[p, 1] - my[s]
+            dx = pts[p, 0] - mx
+            dy = pts[p, 1] - my
             d = math.hypot(dx, dy)
-            if dx * ax[s] + dy * ay[s] >= d * cos_half and d + corner <= far:
+            if dx * ax + dy * ay >= d * cos_half and d + corner <= far:
                 seen[p] = True
                 any_seen = True
     return any_seen

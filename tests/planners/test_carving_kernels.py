@@ -29,6 +29,7 @@ def assert_same(a: SeeThroughCarving, b: SeeThroughCarving, out_a: object, out_b
     for name in ("centres", "parts", "kept"):
         x, y = getattr(out_a, name), getattr(out_b, name)
         assert x.dtype == y.dtype and x.shape == y.shape and np.array_equal(x, y), name
+    assert np.array_equal(out_a.kept_parts(), out_b.kept_parts())  # type: ignore[attr-defined]
 
 
 def random_ranges(rng: np.random.Generator, n: int, max_range: float) -> np.ndarray:
