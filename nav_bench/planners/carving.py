@@ -32,6 +32,7 @@ from nav_bench.interface import Observation, RobotInfo, SonarInfo
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.planners.footprint import (
     CARVE_SUB,
+    PointObstacles,
     _part_offsets,
     cell_parts,
     pose_floats,
@@ -107,6 +108,7 @@ class SeeThroughCarving:
         self.seen_view = np.full(parts, -1, dtype=np.int32)
         self.noted = np.zeros(frame.shape, dtype=bool)
         self.view, self.view_pose = 0, pose_floats(pose)  # (x, y, yaw) of the view, m and rad
+        self._setup_of: RobotInfo | None = None  # the robot the kernel's constants are for
 
     def update(self, obs: Observation, rows: np.ndarray, cols: np.ndarray,
                box: tuple[int, int, int, int], occupied_box: np.ndarray) -> CarvedCells:
@@ -135,23 +137,30 @@ class SeeThroughCarving:
                          box: tuple[int, int, int, int], occupied_box: np.ndarray) -> CarvedCells:
         """:meth:`update` after the view, by :func:`~nav_bench.planners.carving_kernels.carve_cells`."""
         kernels: ModuleType = load_kernels()  # type: ignore[assignment]  # looked up, not kept: pickles
-        f, robot = self.frame, obs.robot
-        sonar = robot.sonar
         rows, cols = np.asarray(rows, dtype=np.int64), np.asarray(cols, dtype=np.int64)
         m = len(rows)
         centres, parts, kept = np.empty((m, 2)), np.empty((m, PARTS, 2)), np.empty((m, PARTS), dtype=bool)
         kept_xy = np.empty((m * PARTS, 2))
         x, y, yaw = pose_floats(obs.pose)
-        part = f.cell / CARVE_SUB
-        geom = np.array([sonar.max_range, math.cos(sonar.cone / 2), sonar.cone / 2, part * math.sqrt(0.5),
-                         math.sqrt(2.0) * (f.cell - part) / 2, robot.radius, robot.radius + f.cell * 0.75])
+        reading = np.array([x, y, yaw, math.cos(yaw), math.sin(yaw), obs.t, _as_compared(obs.t - CARVE_MEMORY_S)])
+        offsets, angles, setup = self._setup(obs.robot)
         k = kernels.carve_cells(self.carved_t, self.seen_t, self.seen_view, self.noted, box[0], box[2],
-                                occupied_box, rows, cols, np.array([f.xmin, f.ymin, f.cell]),
-                                _part_offsets(float(f.cell)), np.array([x, y, yaw, math.cos(yaw), math.sin(yaw)]),
-                                _floats(sonar.offsets), _floats(sonar.angles), _floats(obs.ranges), geom,
-                                self.view, obs.t, _as_compared(obs.t - CARVE_MEMORY_S), centres, parts,
-                                kept, kept_xy)
+                                occupied_box, rows, cols, _part_offsets(float(self.frame.cell)), offsets, angles,
+                                _floats(obs.ranges), setup, reading, self.view, centres, parts, kept, kept_xy)
         return CarvedCells(centres, parts, kept, kept_xy[:k])
+
+    def _setup(self, robot: RobotInfo) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The sonars' offsets (S, 2) m and angles (S,) rad, and the kernel's constants
+        (:func:`~nav_bench.planners.carving_kernels.carve_cells`' ``setup``) for ``robot``,
+        computed once per robot (its geometry is fixed for an episode)."""
+        if self._setup_of is not robot:
+            f, sonar = self.frame, robot.sonar
+            part = f.cell / CARVE_SUB
+            setup = np.array([f.xmin, f.ymin, f.cell, sonar.max_range, math.cos(sonar.cone / 2), sonar.cone / 2,
+                              part * math.sqrt(0.5), math.sqrt(2.0) * (f.cell - part) / 2, robot.radius,
+                              robot.radius + f.cell * 0.75])
+            self._setup_of, self._setup_arrays = robot, (_floats(sonar.offsets), _floats(sonar.angles), setup)
+        return self._setup_arrays
 
     def _next_view(self, pose: tuple[float, float, float]) -> None:
         x, y, yaw = pose
@@ -224,7 +233,8 @@ def _as_compared(limit: float) -> float:
 def _load_compiled_code() -> None:
     """Call the kernels once, on a 3 x 3 grid, so that Numba loads their machine code from its
     cache (or compiles it) while the planner is set up, once per process, not in the first
-    control cycle; with a C-ordered and a strided box (VFH+ passes one, D* Lite the other)."""
+    control cycle; with a C-ordered and a strided box (VFH+ passes one, D* Lite the other), and
+    the clearance against the kept parts (:class:`~nav_bench.planners.footprint.PointObstacles`)."""
     frame = GridFrame(0.0, 0.0, 0.1, 3, 3)
     carving = SeeThroughCarving(frame, np.zeros(3), kernel="numpy")
     carving.compiled = True  # (a "numba" carving would call this function again)
@@ -234,4 +244,7 @@ def _load_compiled_code() -> None:
                       bounds=(0.0, 0.0, 0.3, 0.3), dt=0.1)
     occupied = np.ones((3, 6), dtype=bool)
     for box in (occupied[:, :3].copy(), occupied[:, ::2]):
-        carving.update(obs, np.array([1]), np.array([1]), (0, 3, 0, 3), box)
+        kept = carving.update(obs, np.array([1]), np.array([1]), (0, 3, 0, 3), box).kept_parts()
+    clearance = PointObstacles(kept, 0.01, 0.5, obs.bounds, compiled=True)  # D* Lite's follower's
+    clearance(np.zeros((1, 2)))
+    clearance(np.zeros((2, 2)))

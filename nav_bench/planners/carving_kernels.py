@@ -87,29 +87,28 @@ def _mounts(pose: np.ndarray, offsets: np.ndarray, angles: np.ndarray, ranges: n
 @_kernel()
 def carve_cells(carved_t: np.ndarray, seen_t: np.ndarray, seen_view: np.ndarray, noted: np.ndarray,
                 a0: int, b0: int, occupied_box: np.ndarray, rows: np.ndarray, cols: np.ndarray,
-                frame: np.ndarray, offsets: np.ndarray, pose: np.ndarray, sonar_offsets: np.ndarray,
-                sonar_angles: np.ndarray, ranges: np.ndarray, sonar_geom: np.ndarray, view: int,
-                t: float, limit: float, centres: np.ndarray, parts: np.ndarray, kept: np.ndarray,
-                kept_xy: np.ndarray) -> int:
+                offsets: np.ndarray, sonar_offsets: np.ndarray, sonar_angles: np.ndarray,
+                ranges: np.ndarray, setup: np.ndarray, reading: np.ndarray, view: int,
+                centres: np.ndarray, parts: np.ndarray, kept: np.ndarray, kept_xy: np.ndarray) -> int:
     """``SeeThroughCarving.update`` after the view is chosen: ``_forget`` in the box
     (``occupied_box`` from row ``a0``, column ``b0``), then, for the cells (``rows``, ``cols``
     (M,), distinct): note them, fill ``centres`` (M, 2) and ``parts`` (M, PARTS, 2) (m), update
     the records of the parts seen through (confirmed from another view within the memory: carved
-    at ``t``) or under the body, fill ``kept`` (M, PARTS): carved before ``limit`` (s), and
+    now) or under the body, fill ``kept`` (M, PARTS): carved before the memory's limit, and
     ``kept_xy[:K]`` with the kept parts' centres, cell by cell; returns K.
 
     ``carved_t``, ``seen_t``, ``seen_view`` (H, W, PARTS), ``noted`` (H, W): the records.
-    ``frame`` = (xmin, ymin, cell) m; ``offsets`` (PARTS, 2): the parts' offsets from their
-    cell's centre, m. ``pose`` = (x, y, yaw, cos yaw, sin yaw), m and rad. The sonars:
-    ``sonar_offsets`` (S, 2) m, ``sonar_angles`` (S,) rad, this reading's ``ranges`` (S,) m;
-    ``sonar_geom`` = (max range (m), cos of half the cone, half the cone (rad), a part's
-    centre-to-corner (m), reach (m: centre to the farthest part centre), the robot's radius (m),
-    the reach of the under-the-body cell test (m))."""
+    ``offsets`` (PARTS, 2): the parts' offsets from their cell's centre, m. The sonars:
+    ``sonar_offsets`` (S, 2) m, ``sonar_angles`` (S,) rad, this reading's ``ranges`` (S,) m.
+    ``setup`` = (grid xmin, ymin, cell, max range, cos of half the cone, half the cone, a part's
+    centre-to-corner, reach: centre to the farthest part centre, the robot's radius, the reach of
+    the under-the-body cell test), m and rad. ``reading`` = (x, y, yaw, cos yaw, sin yaw, t, the
+    memory's limit), m, rad, s: the limit as the records are compared with it, ``view`` its view."""
     _forget(carved_t, seen_t, seen_view, noted, a0, b0, occupied_box)
-    mounts = _mounts(pose, sonar_offsets, sonar_angles, ranges, sonar_geom[0])
-    xmin, ymin, cell = frame[0], frame[1], frame[2]
-    x, y = pose[0], pose[1]
-    radius, under_reach = sonar_geom[5], sonar_geom[6]
+    mounts = _mounts(reading, sonar_offsets, sonar_angles, ranges, setup[3])
+    xmin, ymin, cell = setup[0], setup[1], setup[2]
+    x, y, t, limit = reading[0], reading[1], reading[5], reading[6]
+    radius, under_reach = setup[8], setup[9]
     n_parts = offsets.shape[0]
     seen = np.zeros(n_parts, dtype=np.bool_)
     k = 0
@@ -122,7 +121,7 @@ def carve_cells(carved_t: np.ndarray, seen_t: np.ndarray, seen_view: np.ndarray,
             parts[m, p, 0] = cx + offsets[p, 0]
             parts[m, p, 1] = cy + offsets[p, 1]
         noted[r, c] = True
-        any_seen = _seen_parts(parts[m], cx, cy, mounts, sonar_geom, seen)
+        any_seen = _seen_parts(parts[m], cx, cy, mounts, setup, seen)
         if any_seen or math.hypot(cx - x, cy - y) <= under_reach:
             _note_cell(carved_t[r, c], seen_t[r, c], seen_view[r, c], parts[m], seen, x, y, radius, view,
                        t, limit)
@@ -135,13 +134,13 @@ def carve_cells(carved_t: np.ndarray, seen_t: np.ndarray, seen_view: np.ndarray,
 
 
 @_kernel()
-def _seen_parts(pts: np.ndarray, cx: float, cy: float, mounts: np.ndarray, sonar_geom: np.ndarray,
+def _seen_parts(pts: np.ndarray, cx: float, cy: float, mounts: np.ndarray, setup: np.ndarray,
                 seen: np.ndarray) -> bool:
     """Fill ``seen`` (PARTS,) with which of one cell's parts (``pts`` (PARTS, 2), centre ``cx``,
     ``cy``, m) a sonar sees through (``_Mounts.see_through_pairs``, OR over the sonars the
-    pre-filter lets through); True if any. ``mounts``: :func:`_mounts`; ``sonar_geom``: as
+    pre-filter lets through); True if any. ``mounts``: :func:`_mounts`; ``setup``: as
     :func:`carve_cells` takes it."""
-    cos_half, half_cone, corner, reach = sonar_geom[1], sonar_geom[2], sonar_geom[3], sonar_geom[4]
+    cos_half, half_cone, corner, reach = setup[4], setup[5], setup[6], setup[7]
     any_seen = False
     seen[:] = False
     for s in range(mounts.shape[1]):
@@ -175,3 +174,42 @@ def _note_cell(carved: np.ndarray, seen_at: np.ndarray, views: np.ndarray, pts: 
             views[p] = view
         if math.hypot(pts[p, 0] - x, pts[p, 1] - y) <= radius:
             carved[p] = t
+
+
+# -- the clearance against the kept parts (footprint.PointObstacles) -----------------------------
+@_kernel()
+def nearest_one(x: float, y: float, centres: np.ndarray) -> float:
+    """The least ``dx * dx + dy * dy`` (m^2) from (``x``, ``y``) to ``centres`` (K, 2), K > 0:
+    ``PointObstacles._one``'s sum and minimum."""
+    best = np.inf
+    for i in range(centres.shape[0]):
+        dx, dy = x - centres[i, 0], y - centres[i, 1]
+        d2 = dx * dx + dy * dy
+        if d2 < best:
+            best = d2
+    return best
+
+
+@_kernel()
+def nearest(xy: np.ndarray, centres: np.ndarray, bound: float, box: np.ndarray) -> np.ndarray:
+    """(N,) distance (m) from each point ``xy`` (N, 2) to the nearest of ``centres`` (K, 2),
+    ``inf`` at ``bound`` and beyond: ``PointObstacles._nearest``'s direct path (only centres
+    within ``bound`` + 1e-9 along x and y of the points' ``box`` = (x min, y min, x max, y max)
+    are looked at; the squared distances compared with ``bound`` squared)."""
+    reach = bound + 1e-9
+    lo_x, lo_y, hi_x, hi_y = box[0] - reach, box[1] - reach, box[2] + reach, box[3] + reach
+    limit = bound * bound
+    out = np.empty(xy.shape[0])
+    out[:] = np.inf
+    for i in range(centres.shape[0]):
+        cx, cy = centres[i, 0], centres[i, 1]
+        if not (cx >= lo_x and cx <= hi_x and cy >= lo_y and cy <= hi_y):
+            continue
+        for j in range(xy.shape[0]):
+            dx, dy = xy[j, 0] - cx, xy[j, 1] - cy
+            d2 = dx * dx + dy * dy
+            if d2 < out[j]:
+                out[j] = d2
+    for j in range(xy.shape[0]):
+        out[j] = math.sqrt(out[j]) if out[j] < limit else np.inf
+    return out
