@@ -165,7 +165,8 @@ def _note_cell(carved: np.ndarray, seen_at: np.ndarray, views: np.ndarray, pts: 
                limit: float) -> None:
     """``_note`` for one cell's records (PARTS,): a part seen through is carved if a reading from
     another view saw through it since ``limit``; it is then seen at ``t`` from ``view``; a part
-    within ``radius`` of the body's centre (``x``, ``y``) is carved. Times in m and s."""
+    within ``radius`` of the body's centre (``x``, ``y``) is carved (``x``, ``y``, ``radius`` m;
+    ``t``, ``limit`` s)."""
     for p in range(carved.shape[0]):
         if seen[p]:
             if views[p] >= 0 and views[p] != view and seen_at[p] >= limit:
