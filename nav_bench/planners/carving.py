@@ -10,23 +10,46 @@ of those cells are free: a cone sonar's range says everything nearer inside its 
 (:func:`~nav_bench.planners.footprint.seen_through_cells`) from two different views, or under
 the body, in the last ``CARVE_MEMORY_S``. The grid itself is not changed (EO/PC read it with
 the paper's semantics). Units: m, s, rad.
+
+Two ways to compute the same records (``kernel``): the NumPy code here, the reference and the
+fallback, and its compiled twin :func:`nav_bench.planners.carving_kernels.carve_cells` (Numba,
+the optional ``fast`` extra; used when it can be imported), equal bit for bit
+(tests/planners/test_carving_kernels.py).
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
+from types import ModuleType
 
 import numpy as np
 
-from nav_bench.interface import Observation
+from nav_bench import compiled
+from nav_bench.errors import InputError
+from nav_bench.interface import Observation, RobotInfo, SonarInfo
 from nav_bench.mapping.grid import GridFrame
-from nav_bench.planners.footprint import CARVE_SUB, cell_parts, pose_floats, seen_through_cells
+from nav_bench.planners.footprint import (
+    CARVE_SUB,
+    PointObstacles,
+    _part_offsets,
+    cell_parts,
+    pose_floats,
+    seen_through_cells,
+)
 
 VIEW_MOVE_M, VIEW_TURN_RAD = 0.03, math.radians(5.0)  # a new view for carving: moved or turned this much
 CARVE_MEMORY_S = 3.0  # s: a part seen through this recently stays carved
 PARTS = CARVE_SUB * CARVE_SUB  # parts per cell
 INF = math.inf
+CARVING_KERNELS = ("auto", "numpy", "numba")  # choices of SeeThroughCarving's kernel
+
+
+def load_kernels() -> ModuleType | None:
+    """:mod:`nav_bench.planners.carving_kernels`, or None when Numba cannot be imported
+    (:func:`nav_bench.compiled.load`)."""
+    return compiled.load("nav_bench.planners.carving_kernels")
 
 
 @dataclass(frozen=True)
@@ -43,10 +66,11 @@ class CarvedCells:
     centres: np.ndarray
     parts: np.ndarray
     kept: np.ndarray
+    kept_xy: np.ndarray | None = None  # the kept parts' centres when the kernel has them
 
     def kept_parts(self) -> np.ndarray:
         """(K, 2) centres of the kept parts, cell by cell, m."""
-        return self.parts[self.kept]
+        return self.parts[self.kept] if self.kept_xy is None else self.kept_xy
 
 
 class SeeThroughCarving:
@@ -63,9 +87,20 @@ class SeeThroughCarving:
     and a ray grazing past it reads long, but not from two views. Remembered a few seconds,
     so that the obstacles do not flicker with the robot's heading; a cell the grid frees
     forgets it.
+
+    ``kernel``: ``numpy`` (this class's code), ``numba`` (the compiled twin; an
+    :class:`~nav_bench.errors.InputError` without Numba) or ``auto`` (numba when it can be
+    imported): the same records and masks bit for bit.
     """
 
-    def __init__(self, frame: GridFrame, pose: np.ndarray) -> None:
+    def __init__(self, frame: GridFrame, pose: np.ndarray, kernel: str = "auto") -> None:
+        if kernel not in CARVING_KERNELS:
+            raise InputError(f"carving kernel must be one of {list(CARVING_KERNELS)}, got {kernel!r}")
+        if kernel == "numba" and load_kernels() is None:
+            raise InputError("carving kernel 'numba' needs Numba: pip install 'nav-bench[fast]'")
+        self.compiled = kernel != "numpy" and load_kernels() is not None
+        if self.compiled:
+            _load_compiled_code()
         self.frame = frame
         parts = (*frame.shape, PARTS)
         self.carved_t = np.full(parts, -INF, dtype=np.float32)
@@ -73,6 +108,7 @@ class SeeThroughCarving:
         self.seen_view = np.full(parts, -1, dtype=np.int32)
         self.noted = np.zeros(frame.shape, dtype=bool)
         self.view, self.view_pose = 0, pose_floats(pose)  # (x, y, yaw) of the view, m and rad
+        self._setup_of: RobotInfo | None = None  # the robot the kernel's constants are for
 
     def update(self, obs: Observation, rows: np.ndarray, cols: np.ndarray,
                box: tuple[int, int, int, int], occupied_box: np.ndarray) -> CarvedCells:
@@ -83,6 +119,8 @@ class SeeThroughCarving:
         ``occupied_box`` (row1 - row0, col1 - col0) bool, which of its cells are occupied now:
         a noted cell in the box that is no longer occupied forgets its records."""
         self._next_view(pose_floats(obs.pose))
+        if self.compiled:
+            return self._update_compiled(obs, rows, cols, box, occupied_box)
         a0, a1, b0, b1 = box
         self._forget(a0, a1, b0, b1, occupied_box)
         # the records as one row of parts per cell, read and written by flat cell index (a
@@ -94,6 +132,35 @@ class SeeThroughCarving:
         self._note(obs, flat, centres, parts)
         kept = self.carved_t.reshape(-1, PARTS)[flat] < obs.t - CARVE_MEMORY_S
         return CarvedCells(centres, parts, kept)
+
+    def _update_compiled(self, obs: Observation, rows: np.ndarray, cols: np.ndarray,
+                         box: tuple[int, int, int, int], occupied_box: np.ndarray) -> CarvedCells:
+        """:meth:`update` after the view, by :func:`~nav_bench.planners.carving_kernels.carve_cells`."""
+        kernels: ModuleType = load_kernels()  # type: ignore[assignment]  # looked up, not kept: pickles
+        rows, cols = np.asarray(rows, dtype=np.int64), np.asarray(cols, dtype=np.int64)
+        m = len(rows)
+        centres, parts, kept = np.empty((m, 2)), np.empty((m, PARTS, 2)), np.empty((m, PARTS), dtype=bool)
+        kept_xy = np.empty((m * PARTS, 2))
+        x, y, yaw = pose_floats(obs.pose)
+        reading = np.array([x, y, yaw, math.cos(yaw), math.sin(yaw), obs.t, _as_compared(obs.t - CARVE_MEMORY_S)])
+        offsets, angles, setup = self._setup(obs.robot)
+        k = kernels.carve_cells(self.carved_t, self.seen_t, self.seen_view, self.noted, box[0], box[2],
+                                occupied_box, rows, cols, _part_offsets(float(self.frame.cell)), offsets, angles,
+                                _floats(obs.ranges), setup, reading, self.view, centres, parts, kept, kept_xy)
+        return CarvedCells(centres, parts, kept, kept_xy[:k])
+
+    def _setup(self, robot: RobotInfo) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The sonars' offsets (S, 2) m and angles (S,) rad, and the kernel's constants
+        (:func:`~nav_bench.planners.carving_kernels.carve_cells`' ``setup``) for ``robot``,
+        computed once per robot (its geometry is fixed for an episode)."""
+        if self._setup_of is not robot:
+            f, sonar = self.frame, robot.sonar
+            part = f.cell / CARVE_SUB
+            setup = np.array([f.xmin, f.ymin, f.cell, sonar.max_range, math.cos(sonar.cone / 2), sonar.cone / 2,
+                              part * math.sqrt(0.5), math.sqrt(2.0) * (f.cell - part) / 2, robot.radius,
+                              robot.radius + f.cell * 0.75])
+            self._setup_of, self._setup_arrays = robot, (_floats(sonar.offsets), _floats(sonar.angles), setup)
+        return self._setup_arrays
 
     def _next_view(self, pose: tuple[float, float, float]) -> None:
         x, y, yaw = pose
@@ -147,3 +214,37 @@ class SeeThroughCarving:
         times[np.hypot(pa[..., 0] - x, pa[..., 1] - y) <= obs.robot.radius] = obs.t
         carved_rows[at], seen_rows[at], view_rows[at] = times, seen_at, views
 
+
+
+def _floats(values: np.ndarray) -> np.ndarray:
+    """``values`` as a C-ordered float64 array (no copy when it is one): the layout the kernels
+    are warmed up with."""
+    return np.ascontiguousarray(values, dtype=float)
+
+
+def _as_compared(limit: float) -> float:
+    """``limit`` (s) as NumPy compares it with the float32 records: a Python float is rounded
+    to float32 (NEP 50's weak scalar), a NumPy float64 kept; either way exactly the value a
+    float64 comparison in the kernel must use."""
+    return float(np.result_type(np.float32, limit).type(limit))
+
+
+@functools.cache
+def _load_compiled_code() -> None:
+    """Call the kernels once, on a 3 x 3 grid, so that Numba loads their machine code from its
+    cache (or compiles it) while the planner is set up, once per process, not in the first
+    control cycle; with a C-ordered and a strided box (VFH+ passes one, D* Lite the other), and
+    the clearance against the kept parts (:class:`~nav_bench.planners.footprint.PointObstacles`)."""
+    frame = GridFrame(0.0, 0.0, 0.1, 3, 3)
+    carving = SeeThroughCarving(frame, np.zeros(3), kernel="numpy")
+    carving.compiled = True  # (a "numba" carving would call this function again)
+    sonar = SonarInfo(angles=np.zeros(1), offsets=np.zeros((1, 2)), cone=0.4, min_range=0.05, max_range=3.0)
+    robot = RobotInfo(radius=0.1, wheel_base=0.2, v_max=0.5, omega_max=2.0, sonar=sonar)
+    obs = Observation(t=0.0, pose=np.zeros(3), goal=np.ones(2), ranges=np.ones(1), robot=robot,
+                      bounds=(0.0, 0.0, 0.3, 0.3), dt=0.1)
+    occupied = np.ones((3, 6), dtype=bool)
+    for box in (occupied[:, :3].copy(), occupied[:, ::2]):
+        kept = carving.update(obs, np.array([1]), np.array([1]), (0, 3, 0, 3), box).kept_parts()
+    clearance = PointObstacles(kept, 0.01, 0.5, obs.bounds, compiled=True)  # D* Lite's follower's
+    clearance(np.zeros((1, 2)))
+    clearance(np.zeros((2, 2)))

@@ -1189,7 +1189,8 @@ class DStarLite(Planner):
         window = self.occupied[a0:a1, b0:b1]
         rr, cc = np.nonzero(window)
         carved = self._carving.update(obs, rr + a0, cc + b0, (a0, a1, b0, b1), window)
-        return PointObstacles(carved.kept_parts(), cell / (2 * CARVE_SUB), cap, self.grid.bounds)
+        return PointObstacles(carved.kept_parts(), cell / (2 * CARVE_SUB), cap, self.grid.bounds,
+                              compiled=self._carving.compiled)
 
     def _map_changes(self, robot_rc: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Cells whose cost changed since the last cycle (rows, cols, new costs).

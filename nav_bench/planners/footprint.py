@@ -38,10 +38,13 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
+from types import ModuleType
 
 import numpy as np
 from scipy.spatial import cKDTree
 
+from nav_bench import compiled as compiled_code
+from nav_bench.errors import InputError
 from nav_bench.interface import Command, Observation, SonarInfo, wrap_angle
 from nav_bench.planners.follow import echo_mask, limit
 
@@ -100,16 +103,23 @@ class PointObstacles:
 
     Args:
         centres: (M, 2) square centres, m.
+        compiled: the direct distances by Numba kernels
+            (:func:`nav_bench.planners.carving_kernels.nearest`, ``nearest_one``: the same sums
+            and minima, the same distances bit for bit), as the carving that made the squares;
+            an :class:`~nav_bench.errors.InputError` without Numba.
     """
 
     BRUTE_PAIRS = 40000  # point-square pairs up to which distances are computed directly
 
     def __init__(self, centres: np.ndarray, half: float, cap: float,
-                 bounds: tuple[float, float, float, float]) -> None:
-        self.centres = np.asarray(centres, dtype=float).reshape(-1, 2)
+                 bounds: tuple[float, float, float, float], compiled: bool = False) -> None:
+        self.centres = np.ascontiguousarray(np.asarray(centres, dtype=float).reshape(-1, 2))
         self.radius, self.cap, self.bounds = half * math.sqrt(2.0), cap, bounds
         self._cx, self._cy = self.centres[:, 0], self.centres[:, 1]
         self._tree: cKDTree | None = None
+        if compiled and _carving_kernels() is None:
+            raise InputError("compiled clearance needs Numba: pip install 'nav-bench[fast]'")
+        self.compiled = compiled
 
     def __call__(self, xy: np.ndarray) -> np.ndarray:
         xy = np.asarray(xy, dtype=float).reshape(-1, 2)
@@ -136,8 +146,11 @@ class PointObstacles:
         x0, y0, x1, y1 = self.bounds
         if not (x0 <= x < x1 and y0 <= y < y1):
             return 0.0
-        dx, dy = x - self._cx, y - self._cy
-        d2 = float((dx * dx + dy * dy).min())
+        if self.compiled:
+            d2 = float(_carving_kernels().nearest_one(x, y, self.centres))  # type: ignore[union-attr]
+        else:
+            dx, dy = x - self._cx, y - self._cy
+            d2 = float((dx * dx + dy * dy).min())
         bound = self.cap + self.radius
         if d2 >= bound * bound:
             return self.cap
@@ -156,6 +169,9 @@ class PointObstacles:
             return np.zeros(0)
         reach = bound + 1e-9  # centres farther along x or y than this are beyond the bound
         (xmin, ymin), (xmax, ymax) = box or (xy.min(axis=0).tolist(), xy.max(axis=0).tolist())
+        if self.compiled:
+            return _carving_kernels().nearest(  # type: ignore[union-attr]
+                np.ascontiguousarray(xy), self.centres, float(bound), np.array([xmin, ymin, xmax, ymax]))
         near = (cx >= xmin - reach) & (cx <= xmax + reach) & (cy >= ymin - reach) & (cy <= ymax + reach)
         if not near.any():
             return np.full(len(xy), math.inf)
@@ -164,6 +180,11 @@ class PointObstacles:
         d2 = (dx * dx + dy * dy).min(axis=1)
         d2[d2 >= bound * bound] = math.inf  # as the tree compares: squared, the bound excluded
         return np.sqrt(d2)
+
+
+def _carving_kernels() -> ModuleType | None:
+    """:mod:`nav_bench.planners.carving_kernels`, or None when Numba cannot be imported."""
+    return compiled_code.load("nav_bench.planners.carving_kernels")
 
 
 def pose_floats(pose: np.ndarray) -> tuple[float, float, float]:

@@ -106,10 +106,12 @@ import functools
 import itertools
 import math
 from dataclasses import dataclass
+from types import ModuleType
 from typing import Any, ClassVar
 
 import numpy as np
 
+from nav_bench import compiled as compiled_code
 from nav_bench.interface import Command, GridState, Observation, StuckReason, wrap_angle
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
@@ -182,13 +184,20 @@ class ActiveWindow:
         """(M,) world angle of each cell from the robot, rad."""
         return np.arctan2(self.dy, self.dx)
 
-    def carved(self, kept: np.ndarray, parts: np.ndarray, xy: np.ndarray) -> ActiveWindow:
+    def carved(self, kept: np.ndarray, parts: np.ndarray, xy: np.ndarray, compiled: bool = False) -> ActiveWindow:
         """The window with each cell some of whose parts were seen through replaced by its
         kept parts (``kept`` (M, P) bool, ``parts`` (M, P, 2) their centres, m: a
         :class:`~nav_bench.planners.carving.CarvedCells` of this window's cells), each part a
         point with its cell's certainty and ``1 / k`` of its cell's magnitude (``k`` its kept
         parts), in the cell's place in window order. A cell with every part kept stays its centre, as in the paper,
-        so that with nothing seen through the window is this one (seen from ``xy`` (2,), m)."""
+        so that with nothing seen through the window is this one (seen from ``xy`` (2,), m).
+        ``compiled``: by :func:`nav_bench.planners.vfh_kernels.carved_points` (the same points)."""
+        if compiled:
+            if kept.all():
+                return self
+            x, y, certainty, weight, dx, dy, dist = load_kernels().carved_points(  # type: ignore[union-attr]
+                self.x, self.y, self.certainty, kept, parts, float(xy[0]), float(xy[1]))
+            return ActiveWindow(x, y, certainty, dx, dy, dist, weight=weight)
         whole = kept.all(axis=1)
         if whole.all():
             return self
@@ -202,6 +211,26 @@ class ActiveWindow:
         weight = np.concatenate([np.ones(len(cells)), share.take(cell_i)])[order]
         dx, dy = x - xy[0], y - xy[1]
         return ActiveWindow(x, y, certainty, dx, dy, np.hypot(dx, dy), weight=weight)
+
+
+def load_kernels() -> ModuleType | None:
+    """:mod:`nav_bench.planners.vfh_kernels`, or None when Numba cannot be imported
+    (:func:`nav_bench.compiled.load`)."""
+    return compiled_code.load("nav_bench.planners.vfh_kernels")
+
+
+@functools.cache
+def _load_compiled_code() -> None:
+    """Call the window kernels once on a 3 x 3 grid (read-only, as the live map and the centre
+    coordinates are), so that Numba loads their machine code now, once per process, not in the
+    first control cycle."""
+    frame = GridFrame(0.0, 0.0, 0.1, 3, 3)
+    values = np.full((3, 3), 100, dtype=np.uint8)
+    values.flags.writeable = False
+    window = read_window(values, frame, np.array([0.15, 0.15]), 1.0, 1.0, compiled=True)
+    kept = np.ones((len(window), 4), dtype=bool)
+    kept[0, 0] = False
+    window.carved(kept, np.zeros((len(window), 4, 2)), np.zeros(2), compiled=True)
 
 
 @functools.lru_cache(maxsize=4)
@@ -226,16 +255,23 @@ def window_box(frame: GridFrame, xy: np.ndarray, radius: float) -> tuple[int, in
 
 
 def read_window(values: np.ndarray, frame: GridFrame, xy: np.ndarray, radius: float,
-                c_max: float, box: tuple[int, int, int, int] | None = None) -> ActiveWindow:
+                c_max: float, box: tuple[int, int, int, int] | None = None,
+                compiled: bool = False) -> ActiveWindow:
     """The cells with certainty > 0 within ``radius`` m of ``xy``, in row-major order: the
     active window of the occupancy ``values`` (H, W) 0..100 laid out by ``frame``. Reads only
     the window's square of the live map (``box``: :func:`window_box`, computed when not
-    given), and converts only its cells above 50 (certainty > 0)."""
+    given), and converts only its cells above 50 (certainty > 0). ``compiled``: by
+    :func:`nav_bench.planners.vfh_kernels.window_cells` (the same window bit for bit)."""
     x, y = float(xy[0]), float(xy[1])
     rs, re, cs, ce = window_box(frame, xy, radius) if box is None else box
     if rs >= re or cs >= ce:
         none, cells = np.zeros(0, dtype=np.intp), np.zeros(0)
         return ActiveWindow(cells, cells, cells, cells, cells, cells, none, none)
+    if compiled:
+        xs, ys = centre_coordinates(frame)
+        rows, cols, cx, cy, cert, dx, dy, dist = load_kernels().window_cells(  # type: ignore[union-attr]
+            values, np.array([rs, re, cs, ce], dtype=np.intp), xs, ys, x, y, float(radius), float(c_max), UNKNOWN)
+        return ActiveWindow(cx, cy, cert, dx, dy, dist, rows, cols)
     square = values[rs:re, cs:ce]
     above = square > UNKNOWN
     rr, cc = np.divmod(above.ravel().nonzero()[0], ce - cs)  # row-major, as np.nonzero
@@ -509,6 +545,8 @@ class VFHPlus(Planner):
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
         self.frame = GridFrame.from_bounds(self.grid.bounds, self.grid.cell)
         self.carving = SeeThroughCarving(self.frame, obs.pose)
+        if self.carving.compiled:
+            _load_compiled_code()
         self.n = max(4, round(360.0 / p.sector_deg))
         self.alpha = 2 * math.pi / self.n
         self.binary = np.zeros(self.n, dtype=bool)
@@ -578,9 +616,10 @@ class VFHPlus(Planner):
         sonars have seen through carved away (:meth:`ActiveWindow.carved`)."""
         values = self.grid.values(copy=False)
         box = a0, a1, b0, b1 = window_box(self.frame, xy, radius)
-        window = read_window(values, self.frame, xy, radius, self.settings.c_max, box)
+        compiled = self.carving.compiled  # the window's kernels follow the carving's
+        window = read_window(values, self.frame, xy, radius, self.settings.c_max, box, compiled)
         carved = self.carving.update(obs, window.rows, window.cols, box, values[a0:a1, b0:b1] > UNKNOWN)
-        return window.carved(carved.kept, carved.parts, xy)
+        return window.carved(carved.kept, carved.parts, xy, compiled)
 
     def stuck_reason(self) -> StuckReason | None:
         """NO_PATH while no valley is open (every sector blocked: the robot turns on the spot

@@ -2,6 +2,7 @@
 
     PYTHONPATH=TREE python cycle_cpu.py TREE PLANNER OUT.npy    # PLANNER: name or name:key=value
     python cycle_cpu.py --plot OUT.png LABEL=FILE.npy ...        # CDFs of the saved runs
+    python cycle_cpu.py --plot OUT.png --title TITLE LABEL=FILE.npy ...
 
 TREE is the checkout whose benchmarks/bench_planning.py plays the episode (40 simulated s,
 seed 0), the same way the benchmark does.
@@ -24,7 +25,8 @@ def record(tree: str, planner: str, out: str) -> None:
           f"{np.percentile(cpu, 99):.3f} ms ({outcome})")
 
 
-def plot(out: str, runs: list[str]) -> None:
+def plot(out: str, runs: list[str],
+         title: str = "D* Lite on clutter_40m (400 x 400 cells), 40 s, seed 0") -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -39,7 +41,7 @@ def plot(out: str, runs: list[str]) -> None:
     ax.set_xscale("log")
     ax.set_xlabel("CPU ms per control cycle (act), log scale")
     ax.set_ylabel("share of cycles at or below")
-    ax.set_title("D* Lite on clutter_40m (400 x 400 cells), 40 s, seed 0")
+    ax.set_title(title)
     ax.legend(loc="lower right", fontsize=8)
     ax.grid(alpha=0.3)
     fig.tight_layout()
@@ -47,7 +49,9 @@ def plot(out: str, runs: list[str]) -> None:
 
 
 if __name__ == "__main__":
-    if sys.argv[1] == "--plot":
+    if sys.argv[1] == "--plot" and sys.argv[3] == "--title":
+        plot(sys.argv[2], sys.argv[5:], sys.argv[4])
+    elif sys.argv[1] == "--plot":
         plot(sys.argv[2], sys.argv[3:])
     else:
         record(sys.argv[1], sys.argv[2], sys.argv[3])
