@@ -66,13 +66,16 @@ from __future__ import annotations
 
 import array
 import bisect
+import functools
 import itertools
 import math
 from dataclasses import dataclass
+from types import ModuleType
 from typing import NamedTuple
 
 import numpy as np
 
+from nav_bench import compiled
 from nav_bench.errors import InputError
 from nav_bench.interface import SonarInfo
 from nav_bench.mapping.grid import Bounds, GridFrame, OnGridFrame
@@ -81,6 +84,7 @@ UNKNOWN = 50  # value of a cell never observed (log-odds 0)
 SONAR_MODELS = ("elfes", "band")  # inverse sensor models, see the module docstring
 _AXIS_BINS = 180  # sonar axis directions with their own table of candidate cells (2 deg)
 _AXIS_BIN = 2 * math.pi / _AXIS_BINS  # rad
+KERNELS = ("auto", "numpy", "numba")  # choices of OccupancyGrid's kernel
 
 
 def log_odds_to_values(log_odds: np.ndarray) -> np.ndarray:
@@ -103,6 +107,10 @@ class OccupancyGrid(OnGridFrame):
         hit_thickness: radial thickness of the echo arc, m (default: one cell).
         echo_share: "elfes" only: an arc cell gets at most this many cells' share of the echo
             (``s_i = min(1, echo_share * w_i p_i / sum_j w_j p_j)``, module docstring).
+        kernel: the per-cell loops of :meth:`update`: "numpy" (the reference), "numba"
+            (:mod:`~nav_bench.mapping.occupancy_kernels`, the optional ``fast`` extra; an
+            :class:`~nav_bench.errors.InputError` without Numba) or "auto" (numba when it can be
+            imported). Both give the same log-odds and values, bit for bit.
 
     Points and cells outside the grid are ignored by :meth:`update`.
     """
@@ -110,7 +118,7 @@ class OccupancyGrid(OnGridFrame):
     def __init__(self, bounds: Bounds, cell: float = 0.1, *, model: str = "elfes",
                  l_occ: float = 0.85, l_free: float = -0.4, l_min: float = -2.0,
                  l_max: float = 3.5, hit_thickness: float | None = None,
-                 echo_share: float = 2.0) -> None:
+                 echo_share: float = 2.0, kernel: str = "auto") -> None:
         if model not in SONAR_MODELS:
             raise InputError(f"unknown sonar model {model!r}; expected one of {list(SONAR_MODELS)}")
         if not echo_share > 0:
@@ -145,6 +153,9 @@ class OccupancyGrid(OnGridFrame):
         self._tables_key: tuple[float, int] | None = None  # (half cone, disc size) of the tables
         self._ring_of: SonarInfo | None = None  # the sonars _ring describes
         self._ring = _SonarRing((), (), 0.0)
+        self.compiled = _use_kernels(kernel)  # update with occupancy_kernels
+        # occupancy_kernels.cone_cells' scratch (-1 between updates), made on first use
+        self._marks = np.zeros(0, dtype=np.int32)
 
     # -- state -------------------------------------------------------------------------------
     def values(self, copy: bool = True) -> np.ndarray:
@@ -261,7 +272,11 @@ class OccupancyGrid(OnGridFrame):
                 means no echo.
             sonar: mount angles/offsets, cone and range limits of the K sonars.
         """
-        cells = self._cone_cells(pose, np.asarray(ranges, dtype=float).reshape(-1), sonar)
+        reading = self._reading(pose, np.asarray(ranges, dtype=float).reshape(-1), sonar)
+        if self.compiled:
+            self._update_compiled(reading, sonar)
+            return
+        cells = self._cone_cells(reading, sonar)
         if cells is None:
             return
         flat_lo = self._log_odds.reshape(-1)
@@ -277,15 +292,11 @@ class OccupancyGrid(OnGridFrame):
         np.divide(100.0, fused, out=fused)
         self._values.reshape(-1)[cells.idx] = np.rint(fused, out=fused)
 
-    def _cone_cells(self, pose: np.ndarray, ranges: np.ndarray,
-                    sonar: SonarInfo) -> _ConeCells | None:
-        """The cells every sonar of this reading updates, all sonars at once (None: no cell).
+    def _reading(self, pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo) -> _Reading:
+        """The per-sonar values of a reading and its candidate cells, both paths' input.
 
-        Per sonar ``k`` (in order) its cells come in the disc's order (by distance); a cell in two
-        cones appears once per cone. Candidates come from the table of the sonar's axis
-        direction (:meth:`_cone_candidates`) around the sonar's own cell, cut to its reach; the
-        exact cone and range tests on cell centres then decide (module docstring), with the
-        same floating-point operations on the same offsets from the robot's cell as always.
+        Candidates come from the table of each sonar's axis direction (:meth:`_cone_candidates`)
+        around the sonar's own cell, cut to its reach: a superset of its cone's cells.
         """
         x, y, yaw = np.asarray(pose, dtype=float)[:3].tolist()
         frame = self.frame
@@ -299,8 +310,6 @@ class OccupancyGrid(OnGridFrame):
         # the robot's cell and its centre: GridFrame.cell_center in scalars
         r0, c0 = frame.cell_of(x, y)
         cx0, cy0 = frame.xmin + (c0 + 0.5) * cell, frame.ymin + (r0 + 0.5) * cell
-        half_cone = sonar.cone / 2
-        tan_half = math.tan(half_cone)
         cos_y, sin_y = math.cos(yaw), math.sin(yaw)
         # per sonar, with Python's math (the same values the cell tests always used), the row of
         # _SONAR_ROWS: its cell (column, row, flat) less the robot's, the robot cell's centre
@@ -326,13 +335,31 @@ class OccupancyGrid(OnGridFrame):
             # of its cell's centre
             reach.append((r + half_t if echo else sonar.max_range) + math.hypot(
                 frame.xmin + (ck + 0.5) * cell - sx, frame.ymin + (rk + 0.5) * cell - sy))
-        count = len(axes)
         # candidates are picked around each sonar's own cell, whose centre is within half a
         # diagonal of the sonar
-        disc, per_row = self._cone_candidates(axes, reach, half_cone)
-        sonar_of = self._sonar_numbers(count).repeat(per_row)
+        disc, per_row = self._cone_candidates(axes, reach, sonar.cone / 2)
+        # cells from (r0, c0) to the farthest candidate along a row or a column
+        span = self._disc_span + home_span
+        return _Reading(np.array(rows).reshape(len(axes), _SONAR_ROWS), disc, per_row, r0, c0, span,
+                        not (span <= r0 < height - span and span <= c0 < width - span))
+
+    def _cone_cells(self, reading: _Reading, sonar: SonarInfo) -> _ConeCells | None:
+        """The cells every sonar of this reading updates, all sonars at once (None: no cell).
+
+        Per sonar ``k`` (in order) its cells come in the disc's order (by distance); a cell in two
+        cones appears once per cone. The exact cone and range tests on the candidates' centres
+        decide (module docstring), with the same floating-point operations on the same offsets
+        from the robot's cell as always.
+        """
+        cell, half_t = self.frame.cell, self.hit_thickness / 2
+        height, width = self.frame.shape
+        half_cone = sonar.cone / 2
+        tan_half = math.tan(half_cone)
+        disc, r0, c0, span = reading.disc, reading.r0, reading.c0, reading.span
+        count = len(reading.rows)
+        sonar_of = self._sonar_numbers(count).repeat(reading.per_row)
         # each candidate's sonar row: (_SONAR_ROWS, m)
-        per_sonar = np.array(rows).reshape(count, _SONAR_ROWS).T.take(sonar_of, axis=1)
+        per_sonar = reading.rows.T.take(sonar_of, axis=1)
         # column, row and flat offsets from the robot's cell (whole numbers, exact as floats)
         offsets = self._disc_offsets.take(disc, axis=1)
         offsets += per_sonar[:3]
@@ -352,9 +379,7 @@ class OccupancyGrid(OnGridFrame):
         occ = np.abs(bound, out=bound) <= half_t
         occ &= touched
         touched &= occ | (dist < per_sonar[8])
-        # cells from (r0, c0) to the farthest candidate along a row or a column
-        span = self._disc_span + home_span
-        if not (span <= r0 < height - span and span <= c0 < width - span):
+        if reading.edges:
             dc, dr = offsets[0], offsets[1]
             touched &= (dr >= -r0) & (dr < height - r0) & (dc >= -c0) & (dc < width - c0)
         keep = touched.nonzero()[0]  # np.flatnonzero without its Python wrappers
@@ -376,6 +401,42 @@ class OccupancyGrid(OnGridFrame):
         return _ConeCells(idx=local + (r0 - span) * width, sonar=sonar_of.take(keep), local=local,
                           local_size=(2 * span + 1) * width, occ=occ.take(keep), weight=weight,
                           count=count)
+
+    def _update_compiled(self, reading: _Reading, sonar: SonarInfo) -> None:
+        """:meth:`update`'s cells, fusion and values with :mod:`~nav_bench.mapping.occupancy_kernels`
+        (the NumPy path's operations: the same log-odds and values, bit for bit); the ``arctan2``
+        and ``exp`` stay in NumPy."""
+        kernels = _kernels()
+        flat_lo = self._log_odds.reshape(-1)
+        n, idx, sonar_of, occ, off_axis, along, bounds, runs = self._compiled_cells(reading, sonar)
+        if n == 0:
+            return
+        idx = idx[:n]
+        elfes = self.model == "elfes"
+        weight = off_axis[:n]
+        if elfes:  # angle from the axis on the half-cell-widened cone (module docstring)
+            np.arctan2(weight, along[:n], out=weight)
+            kernels.elfes_weight(weight, sonar.cone / 2)
+        negated = np.empty(n)  # -log-odds of the cells after their run
+        for start, stop in itertools.pairwise(bounds[:runs + 1].tolist()):
+            arc_exp = kernels.arc_log_odds(flat_lo, idx, occ, start, stop) if elfes else off_axis[:0]
+            kernels.fuse(flat_lo, idx, sonar_of, occ, weight, np.exp(arc_exp, out=arc_exp),
+                         len(reading.rows), start, stop, elfes, self.l_occ, self.l_free, self.l_min,
+                         self.l_max, self.echo_share, negated)
+        if runs > 1:  # a cell may have changed in two runs: read its final log-odds
+            kernels.negated_log_odds(flat_lo, idx, negated)
+        kernels.write_values(self._values.reshape(-1), idx, np.exp(negated, out=negated))
+
+    def _compiled_cells(self, reading: _Reading, sonar: SonarInfo) -> tuple:
+        """:func:`~nav_bench.mapping.occupancy_kernels.cone_cells` of a reading (its docstring
+        says what it returns)."""
+        frame = self.frame
+        if len(self._marks) != frame.rows * frame.cols:
+            self._marks = np.full(frame.rows * frame.cols, -1, dtype=np.int32)
+        return _kernels().cone_cells(
+            reading.disc, np.array(reading.per_row), reading.rows, self._disc_offsets[0],
+            self._disc_offsets[1], frame.cell, math.tan(sonar.cone / 2), self.hit_thickness / 2,
+            reading.r0, reading.c0, frame.rows, frame.cols, reading.edges, self._marks)
 
     def _sonar_numbers(self, count: int) -> np.ndarray:
         """(count,) 0, 1, .. count - 1, kept between updates."""
@@ -444,7 +505,30 @@ class _ConeTable(NamedTuple):
     dist: array.array
 
 
-_SONAR_ROWS = 9  # per-sonar values of OccupancyGrid._cone_cells
+_SONAR_ROWS = 9  # per-sonar values of OccupancyGrid._reading
+
+
+class _Reading(NamedTuple):
+    """One reading's input to the cell tests (:meth:`OccupancyGrid._reading`).
+
+    Attributes:
+        rows: (K, _SONAR_ROWS) per sonar: its cell's column, row and flat offsets from the
+            robot's cell, the robot cell's centre less the sonar's position (m), its axis
+            (cos, sin), its echo range (m; -inf: no echo) and the range below which a cone cell
+            is seen through (m).
+        disc: (m,) candidate disc cells, sonar by sonar; per_row: how many are each sonar's.
+        r0, c0: the robot's cell.
+        span: cells from (r0, c0) to the farthest candidate along a row or a column.
+        edges: whether candidates may fall outside the grid (the bounds test is needed).
+    """
+
+    rows: np.ndarray
+    disc: np.ndarray
+    per_row: list[int]
+    r0: int
+    c0: int
+    span: int
+    edges: bool
 
 
 class _ConeCells(NamedTuple):
@@ -483,3 +567,37 @@ class _SonarRing:
         offsets = tuple((float(ox), float(oy)) for ox, oy in np.asarray(sonar.offsets, dtype=float))
         reach = max((math.hypot(ox, oy) for ox, oy in offsets), default=0.0)
         return cls(offsets, tuple(float(a) for a in sonar.angles), reach)
+
+
+def _kernels() -> ModuleType | None:
+    """:mod:`nav_bench.mapping.occupancy_kernels`, or None without Numba (looked up, not kept:
+    a grid pickles)."""
+    return compiled.load("nav_bench.mapping.occupancy_kernels")
+
+
+def _use_kernels(kernel: str) -> bool:
+    """Whether a grid built with ``kernel`` (:data:`KERNELS`) updates with the compiled kernels;
+    loads their machine code once per process (:func:`_load_compiled_code`)."""
+    if kernel not in KERNELS:
+        raise InputError(f"occupancy grid kernel must be one of {list(KERNELS)}, got {kernel!r}")
+    if kernel == "numpy":
+        return False
+    if _kernels() is None:
+        if kernel == "numba":
+            raise InputError("occupancy grid kernel 'numba' needs Numba: pip install 'nav-bench[fast]'")
+        return False
+    _load_compiled_code()
+    return True
+
+
+@functools.cache
+def _load_compiled_code() -> None:
+    """One update per model with the kernels on a small grid (every kernel called, two runs
+    and the grid's edge included), so that Numba loads their machine code from its cache (or
+    compiles it) while the planner is set up, once per process, not in its first control cycle."""
+    sonar = SonarInfo(angles=np.array([0.0, 0.0]), offsets=np.zeros((2, 2)), cone=0.5,
+                      min_range=0.05, max_range=1.0)
+    for model in SONAR_MODELS:
+        grid = OccupancyGrid((0.0, 0.0, 1.0, 1.0), 0.1, model=model, kernel="numpy")
+        grid.compiled = True
+        grid.update(np.array([0.5, 0.5, 0.0]), np.array([0.3, 0.3]), sonar)
