@@ -149,12 +149,13 @@ class OccupancyGrid(OnGridFrame):
         self._disc_offsets = np.zeros((3, 0))
         self._numbers = np.zeros(0, dtype=np.int64)  # _sonar_numbers
         self._tables: dict[int, _ConeTable] = {}  # _cone_candidates' tables, by axis bin
+        self._all_tables = _AllTables(np.zeros(0, dtype=np.int64), np.zeros(0), 0)  # the same, end to end
         self._sector_cos = np.zeros(0)  # the tables' sector test, per disc cell
         self._tables_key: tuple[float, int] | None = None  # (half cone, disc size) of the tables
         self._ring_of: SonarInfo | None = None  # the sonars _ring describes
         self._ring = _SonarRing((), (), 0.0)
         self.compiled = _use_kernels(kernel)  # update with occupancy_kernels
-        # occupancy_kernels.cone_cells' scratch (-1 between updates), made on first use
+        # occupancy_kernels.cone_cells' scratch over the cells around the robot (-1 between updates)
         self._marks = np.zeros(0, dtype=np.int32)
 
     # -- state -------------------------------------------------------------------------------
@@ -225,40 +226,44 @@ class OccupancyGrid(OnGridFrame):
         angle = np.nan_to_num(half_cone + shift + widen, nan=math.pi)
         return np.where(angle >= math.pi, -2.0, np.cos(np.minimum(angle, math.pi)) - 1e-9)
 
-    def _cone_candidates(self, axes: list[float], reach: list[float],
-                         half_cone: float) -> tuple[np.ndarray, list[int]]:
-        """The disc cells that can lie in the cones of sonars pointing at ``axes`` (rad) and
-        sitting within half a cell's diagonal of the disc's centre, among each one's disc cells
-        within ``reach`` (m) of the centre: a superset of each cone's cells.
+    def _cone_candidates(self, tables: list[_ConeTable], reach: list[float]) -> tuple[np.ndarray, list[int]]:
+        """The disc cells that can lie in the cones of sonars whose axis directions have these
+        ``tables`` (:meth:`_ensure_tables`) and sitting within half a cell's diagonal of the
+        disc's centre, among each one's disc cells within ``reach`` (m) of the centre: a superset
+        of each cone's cells.
 
         Returns ``(disc, per_sonar)``: (m,) disc cells, sonar by sonar, each sonar's ascending
-        (so by distance); how many are each sonar's. Read from a table per ``_AXIS_BIN`` of axis
-        direction (the sector test widened by half a bin), each built when first needed (all at
-        once would cost several ms in one cycle).
+        (so by distance); how many are each sonar's.
         """
-        key = (half_cone, len(self._disc_d))
-        if self._tables_key != key:
-            self._tables.clear()
-            self._tables_key = key
-            self._sector_cos = self._sector_threshold(half_cone + _AXIS_BIN / 2 + 1e-9,
-                                                      self.frame.cell * math.sqrt(0.5))
         parts, counts = [], []
-        for axis, within in zip(axes, reach, strict=True):
-            b = round(axis / _AXIS_BIN) % _AXIS_BINS
-            table = self._tables.get(b)
-            if table is None:
-                table = self._tables[b] = self._build_table(b)
+        for table, within in zip(tables, reach, strict=True):
             n = bisect.bisect_right(table.dist, within)
             parts.append(table.cells[:n])
             counts.append(n)
         return np.concatenate(parts), counts
 
+    def _ensure_tables(self, half_cone: float) -> None:
+        """Forget the tables if they were made for another cone or disc. There is a table per
+        ``_AXIS_BIN`` of axis direction (the sector test widened by half a bin), each built when
+        first needed (:meth:`_build_table`; all at once would cost several ms in one cycle)."""
+        key = (half_cone, len(self._disc_d))
+        if self._tables_key != key:
+            self._tables.clear()
+            self._all_tables = _AllTables(np.zeros(0, dtype=np.int64), np.zeros(0), 0)
+            self._tables_key = key
+            self._sector_cos = self._sector_threshold(half_cone + _AXIS_BIN / 2 + 1e-9,
+                                                      self.frame.cell * math.sqrt(0.5))
+
     def _build_table(self, b: int) -> _ConeTable:
-        """The table of axis bin ``b``: the disc cells passing the bin's sector test."""
+        """The table of axis bin ``b``: the disc cells passing the bin's sector test, kept (also
+        at the end of :attr:`_all_tables`)."""
         centre = b * _AXIS_BIN
         cells = np.flatnonzero(math.cos(centre) * self._disc_bearing_x
                                + math.sin(centre) * self._disc_bearing_y >= self._sector_cos)
-        return _ConeTable(cells, array.array("d", self._disc_d[cells].tobytes()))
+        self._all_tables = self._all_tables.append(cells, self._disc_d[cells])
+        table = self._tables[b] = _ConeTable(cells, array.array("d", self._disc_d[cells].tobytes()),
+                                             self._all_tables.size - len(cells))
+        return table
 
     def update(self, pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo) -> None:
         """Fuse one set of sonar readings taken at ``pose``.
@@ -293,11 +298,7 @@ class OccupancyGrid(OnGridFrame):
         self._values.reshape(-1)[cells.idx] = np.rint(fused, out=fused)
 
     def _reading(self, pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo) -> _Reading:
-        """The per-sonar values of a reading and its candidate cells, both paths' input.
-
-        Candidates come from the table of each sonar's axis direction (:meth:`_cone_candidates`)
-        around the sonar's own cell, cut to its reach: a superset of its cone's cells.
-        """
+        """The per-sonar values of a reading, both paths' input."""
         x, y, yaw = np.asarray(pose, dtype=float)[:3].tolist()
         frame = self.frame
         cell, half_t = frame.cell, self.hit_thickness / 2
@@ -307,17 +308,16 @@ class OccupancyGrid(OnGridFrame):
             self._ring_of = sonar
         ring = self._ring
         self._ensure_disc(sonar.max_range + half_t + ring.mount_reach + cell)
+        self._ensure_tables(sonar.cone / 2)
         # the robot's cell and its centre: GridFrame.cell_center in scalars
         r0, c0 = frame.cell_of(x, y)
         cx0, cy0 = frame.xmin + (c0 + 0.5) * cell, frame.ymin + (r0 + 0.5) * cell
         cos_y, sin_y = math.cos(yaw), math.sin(yaw)
         # per sonar, with Python's math (the same values the cell tests always used), the row of
-        # _SONAR_ROWS: its cell (column, row, flat) less the robot's, the robot cell's centre
-        # less the sonar's position (m), its axis, the echo range (-inf: no echo, no arc cell)
-        # and the range below which a cone cell is seen through
+        # _SONAR_ROWS (_Reading)
         rows: list[float] = []
-        axes: list[float] = []
-        reach: list[float] = []  # disc radius around the sonar's cell holding its cells, m
+        tables: list[_ConeTable] = []
+        reach: list[float] = []
         home_span = 0  # the farthest sonar cell from the robot's, along a row or a column
         no_echo_free = math.nextafter(sonar.max_range, math.inf)  # "dist <= max_range"
         for (ox, oy), angle, r in zip(ring.offsets, ring.angles, ranges.tolist(), strict=True):
@@ -327,39 +327,45 @@ class OccupancyGrid(OnGridFrame):
             echo = math.isfinite(r) and r < sonar.max_range
             rk, ck = frame.cell_of(sx, sy)
             hr, hc = rk - r0, ck - c0
-            rows += (hc, hr, hr * width + hc, cx0 - sx, cy0 - sy, math.cos(a), math.sin(a),
-                     r if echo else -math.inf, r - half_t if echo else no_echo_free)
-            axes.append(a)
             home_span = max(home_span, abs(hr), abs(hc))
             # centres within reach of the sonar lie within reach + |sonar - its cell's centre|
             # of its cell's centre
-            reach.append((r + half_t if echo else sonar.max_range) + math.hypot(
-                frame.xmin + (ck + 0.5) * cell - sx, frame.ymin + (rk + 0.5) * cell - sy))
-        # candidates are picked around each sonar's own cell, whose centre is within half a
-        # diagonal of the sonar
-        disc, per_row = self._cone_candidates(axes, reach, sonar.cone / 2)
+            within = (r + half_t if echo else sonar.max_range) + math.hypot(
+                frame.xmin + (ck + 0.5) * cell - sx, frame.ymin + (rk + 0.5) * cell - sy)
+            b = round(a / _AXIS_BIN) % _AXIS_BINS
+            table = self._tables.get(b)
+            if table is None:
+                table = self._build_table(b)
+            rows += (hc, hr, hr * width + hc, cx0 - sx, cy0 - sy, math.cos(a), math.sin(a),
+                     r if echo else -math.inf, r - half_t if echo else no_echo_free,
+                     table.start, len(table.cells), within)
+            tables.append(table)
+            reach.append(within)
         # cells from (r0, c0) to the farthest candidate along a row or a column
         span = self._disc_span + home_span
-        return _Reading(np.array(rows).reshape(len(axes), _SONAR_ROWS), disc, per_row, r0, c0, span,
+        return _Reading(np.array(rows).reshape(len(tables), _SONAR_ROWS), tables, reach, r0, c0, span,
                         not (span <= r0 < height - span and span <= c0 < width - span))
 
     def _cone_cells(self, reading: _Reading, sonar: SonarInfo) -> _ConeCells | None:
         """The cells every sonar of this reading updates, all sonars at once (None: no cell).
 
         Per sonar ``k`` (in order) its cells come in the disc's order (by distance); a cell in two
-        cones appears once per cone. The exact cone and range tests on the candidates' centres
-        decide (module docstring), with the same floating-point operations on the same offsets
-        from the robot's cell as always.
+        cones appears once per cone. Candidates come from the table of the sonar's axis
+        direction (:meth:`_cone_candidates`) around the sonar's own cell (whose centre is within
+        half a diagonal of the sonar), cut to its reach; the exact cone and range tests on cell
+        centres then decide (module docstring), with the same floating-point operations on the
+        same offsets from the robot's cell as always.
         """
         cell, half_t = self.frame.cell, self.hit_thickness / 2
         height, width = self.frame.shape
         half_cone = sonar.cone / 2
         tan_half = math.tan(half_cone)
-        disc, r0, c0, span = reading.disc, reading.r0, reading.c0, reading.span
+        r0, c0, span = reading.r0, reading.c0, reading.span
         count = len(reading.rows)
-        sonar_of = self._sonar_numbers(count).repeat(reading.per_row)
-        # each candidate's sonar row: (_SONAR_ROWS, m)
-        per_sonar = reading.rows.T.take(sonar_of, axis=1)
+        disc, per_row = self._cone_candidates(reading.tables, reading.reach)
+        sonar_of = self._sonar_numbers(count).repeat(per_row)
+        # each candidate's sonar row, up to its echo: (_ECHO_ROWS, m)
+        per_sonar = reading.rows[:, :_ECHO_ROWS].T.take(sonar_of, axis=1)
         # column, row and flat offsets from the robot's cell (whole numbers, exact as floats)
         offsets = self._disc_offsets.take(disc, axis=1)
         offsets += per_sonar[:3]
@@ -431,12 +437,13 @@ class OccupancyGrid(OnGridFrame):
         """:func:`~nav_bench.mapping.occupancy_kernels.cone_cells` of a reading (its docstring
         says what it returns)."""
         frame = self.frame
-        if len(self._marks) != frame.rows * frame.cols:
-            self._marks = np.full(frame.rows * frame.cols, -1, dtype=np.int32)
+        if len(self._marks) < (2 * reading.span + 1) ** 2:
+            self._marks = np.full((2 * reading.span + 3) ** 2, -1, dtype=np.int32)  # a cell to spare
+        tables = self._all_tables
         return _kernels().cone_cells(
-            reading.disc, np.array(reading.per_row), reading.rows, self._disc_offsets[0],
+            tables.cells, tables.dist, reading.rows, self._disc_offsets[0],
             self._disc_offsets[1], frame.cell, math.tan(sonar.cone / 2), self.hit_thickness / 2,
-            reading.r0, reading.c0, frame.rows, frame.cols, reading.edges, self._marks)
+            reading.r0, reading.c0, frame.rows, frame.cols, reading.edges, reading.span, self._marks)
 
     def _sonar_numbers(self, count: int) -> np.ndarray:
         """(count,) 0, 1, .. count - 1, kept between updates."""
@@ -499,13 +506,36 @@ class OccupancyGrid(OnGridFrame):
 class _ConeTable(NamedTuple):
     """One axis bin's candidate cells (:meth:`OccupancyGrid._cone_candidates`): their disc
     indices (m,), ascending (so by distance from the disc's centre), and those distances, m
-    (a flat array of doubles for ``bisect``: no Python float objects for the collector to visit)."""
+    (a flat array of doubles for ``bisect``: no Python float objects for the collector to visit);
+    where they start in the grid's :class:`_AllTables`."""
 
     cells: np.ndarray
     dist: array.array
+    start: int
 
 
-_SONAR_ROWS = 9  # per-sonar values of OccupancyGrid._reading
+class _AllTables(NamedTuple):
+    """The built :class:`_ConeTable` s end to end, for the kernels: ``cells[:size]``,
+    ``dist[:size]`` (the arrays have room to grow)."""
+
+    cells: np.ndarray
+    dist: np.ndarray
+    size: int
+
+    def append(self, cells: np.ndarray, dist: np.ndarray) -> _AllTables:
+        """These with one more table at the end (the arrays doubled when full)."""
+        size = self.size + len(cells)
+        if size > len(self.cells):
+            room = max(size, 2 * len(self.cells))
+            grown = _AllTables(np.zeros(room, dtype=np.int64), np.zeros(room), self.size)
+            grown.cells[:self.size], grown.dist[:self.size] = self.cells[:self.size], self.dist[:self.size]
+            return grown.append(cells, dist)
+        self.cells[self.size:size], self.dist[self.size:size] = cells, dist
+        return _AllTables(self.cells, self.dist, size)
+
+
+_SONAR_ROWS = 12  # per-sonar values of OccupancyGrid._reading (_Reading.rows)
+_ECHO_ROWS = 9  # the first ones, which the cell tests read
 
 
 class _Reading(NamedTuple):
@@ -514,17 +544,19 @@ class _Reading(NamedTuple):
     Attributes:
         rows: (K, _SONAR_ROWS) per sonar: its cell's column, row and flat offsets from the
             robot's cell, the robot cell's centre less the sonar's position (m), its axis
-            (cos, sin), its echo range (m; -inf: no echo) and the range below which a cone cell
-            is seen through (m).
-        disc: (m,) candidate disc cells, sonar by sonar; per_row: how many are each sonar's.
+            (cos, sin), its echo range (m; -inf: no echo), the range below which a cone cell
+            is seen through (m); its table's start and length in the grid's
+            :class:`_AllTables` and its reach (m, as in ``reach``).
+        tables: per sonar the :class:`_ConeTable` of its axis direction.
+        reach: per sonar the disc radius around its cell holding its cells, m.
         r0, c0: the robot's cell.
         span: cells from (r0, c0) to the farthest candidate along a row or a column.
         edges: whether candidates may fall outside the grid (the bounds test is needed).
     """
 
     rows: np.ndarray
-    disc: np.ndarray
-    per_row: list[int]
+    tables: list[_ConeTable]
+    reach: list[float]
     r0: int
     c0: int
     span: int

@@ -25,8 +25,21 @@ import numpy as np
 
 from nav_bench.compiled import kernel as _kernel
 
-# columns of the per-sonar rows (OccupancyGrid._cone_cells' _SONAR_ROWS)
-_COL, _ROW, _FLAT, _CX, _CY, _UX, _UY, _ECHO, _FREE = range(9)
+# columns of the per-sonar rows (OccupancyGrid._reading's _SONAR_ROWS)
+_COL, _ROW, _FLAT, _CX, _CY, _UX, _UY, _ECHO, _FREE, _START, _LENGTH, _REACH = range(12)
+
+
+@_kernel(inline="always")
+def _bisect_right(a: np.ndarray, x: float, lo: int, hi: int) -> int:
+    """Python's ``bisect.bisect_right(a, x, lo, hi)``: the first index in ``[lo, hi)`` whose
+    value is above ``x`` (``hi`` if none), ``a[lo:hi]`` ascending."""
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if x < a[mid]:
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
 
 
 @_kernel(inline="always")
@@ -45,30 +58,40 @@ def _squared_near(echo: float, free: float, half_t: float) -> float:
 
 
 @_kernel()
-def cone_cells(disc: np.ndarray, counts: np.ndarray, rows: np.ndarray, disc_c: np.ndarray,
+def cone_cells(tables: np.ndarray, table_dist: np.ndarray, rows: np.ndarray, disc_c: np.ndarray,
                disc_r: np.ndarray, cell: float, tan_half: float, half_t: float, r0: int, c0: int,
-               height: int, width: int, edges: bool, owner: np.ndarray
+               height: int, width: int, edges: bool, span: int, owner: np.ndarray
                ) -> tuple[int, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
     """The cells a reading updates: the candidates that pass the cone, range and (``edges``)
     grid tests, in the candidates' order.
 
     Args:
-        disc: (m,) candidate disc cells, sonar by sonar (``counts[k]`` of sonar ``k``).
-        rows: (K, 9) per sonar: its cell's column, row and flat offsets from the robot's cell,
+        tables, table_dist: the cone tables' disc cells and their distances from the disc's
+            centre (m), end to end (``OccupancyGrid._all_tables``).
+        rows: (K, 12) per sonar: its cell's column, row and flat offsets from the robot's cell,
             the robot cell's centre less the sonar's position (m), its axis (ux, uy), its echo
-            range (m; -inf: no echo) and the range below which a cone cell is seen through (m).
+            range (m; -inf: no echo), the range below which a cone cell is seen through (m),
+            the start and length of its table in ``tables`` and its reach (m): its candidates
+            are the table's cells within reach (``bisect_right``).
         disc_c, disc_r: the disc's column and row offsets (cells), as floats.
         cell, tan_half, half_t: cell side (m), tan(cone / 2), half the echo arc's thickness (m).
         r0, c0: the robot's cell; height, width: the grid's.
-        owner: (>= the flat grid size,) scratch, -1 everywhere; left so.
+        span: no candidate is farther from the robot's cell along a row or a column.
+        owner: (>= (2 span + 1)^2,) scratch over the square of cells within ``span`` of the
+            robot's, -1 everywhere; left so.
 
     Returns ``(n, idx, sonar, occ, off_axis, along, bounds, runs)``, the first ``n`` entries of
     each array meaningful: flat grid index, sonar, on the echo arc, lateral distance from the
     axis less half a cell (>= 0, m), distance along the axis (m); the runs of sonars whose cones
     share no cell (``_independent_runs``) as entry bounds ``bounds[:runs + 1]``.
     """
-    m = len(disc)
-    count = len(counts)
+    count = len(rows)
+    m = 0
+    stops = np.empty(count, dtype=np.int64)  # the end of each sonar's candidates in tables
+    for k in range(count):
+        first = int(rows[k, _START])
+        stops[k] = _bisect_right(table_dist, rows[k, _REACH], first, first + int(rows[k, _LENGTH]))
+        m += stops[k] - first
     half_cell = cell / 2
     idx = np.empty(m, dtype=np.int64)
     sonar = np.empty(m, dtype=np.int64)
@@ -76,10 +99,11 @@ def cone_cells(disc: np.ndarray, counts: np.ndarray, rows: np.ndarray, disc_c: n
     off_axis = np.empty(m)
     along_kept = np.empty(m)
     bounds = np.empty(count + 1, dtype=np.int64)
+    square = np.empty(m, dtype=np.int64)  # each kept cell's place in owner
+    side = 2 * span + 1
     bounds[0] = 0
     runs = 0
     n = 0
-    j = 0
     base = r0 * width + c0
     for k in range(count):
         hc, hr = rows[k, _COL], rows[k, _ROW]
@@ -88,9 +112,8 @@ def cone_cells(disc: np.ndarray, counts: np.ndarray, rows: np.ndarray, disc_c: n
         near = _squared_near(echo, free, half_t)
         first = n
         new_run = False
-        for _ in range(counts[k]):
-            d = disc[j]
-            j += 1
+        for j in range(int(rows[k, _START]), stops[k]):
+            d = tables[j]
             col = disc_c[d] + hc  # whole numbers: exact
             row = disc_r[d] + hr
             dx = col * cell + cx
@@ -115,14 +138,15 @@ def cone_cells(disc: np.ndarray, counts: np.ndarray, rows: np.ndarray, disc_c: n
             off_axis[n] = off if off >= 0.0 or off != off else 0.0  # np.maximum(off, 0.0)
             along_kept[n] = along
             n += 1
-            if owner[flat] >= 0 and owner[flat] != k:  # a cell an earlier sonar updates
+            square[n - 1] = (int(row) + span) * side + int(col) + span
+            if owner[square[n - 1]] >= 0 and owner[square[n - 1]] != k:  # a cell an earlier sonar updates
                 new_run = True
-            owner[flat] = k
+            owner[square[n - 1]] = k
         if new_run:
             runs += 1
             bounds[runs] = first
     for i in range(n):
-        owner[idx[i]] = -1
+        owner[square[i]] = -1
     runs += 1
     bounds[runs] = n
     return n, idx, sonar, occ, off_axis, along_kept, bounds, runs
