@@ -9,9 +9,12 @@ weight and the ``exp`` of Konolige's blame and of the values stay in NumPy, betw
 their last bits differ between NumPy's SIMD loops and the C library Numba calls
 (:mod:`nav_bench.compiled`).
 
-An update is: :func:`cone_cells` (the kept cells and the runs of sonars to fuse one after the
-other) -> NumPy ``arctan2`` -> per run: :func:`arc_log_odds` -> NumPy ``exp`` -> :func:`fuse`
--> NumPy ``exp`` -> :func:`write_values`.
+An update is: :func:`cone_cells` (the candidates read from the cone tables, the kept cells and
+the runs of sonars to fuse one after the other) -> NumPy ``arctan2`` -> :func:`elfes_weight`
+("elfes") -> per run: :func:`arc_log_odds` -> NumPy ``exp`` -> :func:`fuse`; then
+(:func:`negated_log_odds` if there were several runs) -> NumPy ``exp`` -> :func:`write_values`.
+One liberty, which cannot change a result: :func:`cone_cells` skips the ``hypot`` of a cell
+whose sum of squares, with a margin, proves it seen through (:func:`_squared_near`).
 
 Imported only when a grid chooses the kernels (:func:`nav_bench.compiled.load`), compiled and
 cached by :func:`nav_bench.compiled.kernel`.
