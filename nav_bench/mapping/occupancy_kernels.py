@@ -140,11 +140,11 @@ def cone_cells(tables: np.ndarray, table_dist: np.ndarray, rows: np.ndarray, dis
             off = lateral - half_cell
             off_axis[n] = off if off >= 0.0 or off != off else 0.0  # np.maximum(off, 0.0)
             along_kept[n] = along
+            place = square[n] = (int(row) + span) * side + int(col) + span
             n += 1
-            square[n - 1] = (int(row) + span) * side + int(col) + span
-            if owner[square[n - 1]] >= 0 and owner[square[n - 1]] != k:  # a cell an earlier sonar updates
+            if owner[place] >= 0 and owner[place] != k:  # a cell an earlier sonar updates
                 new_run = True
-            owner[square[n - 1]] = k
+            owner[place] = k
         if new_run:
             runs += 1
             bounds[runs] = first
