@@ -1,5 +1,6 @@
 """The sonar map's update, per control cycle: the Elfes model against the three-band model,
-and optionally this tree's update against another git revision's, side by side.
+the NumPy path against the compiled one, and optionally this tree's update against another git
+revision's, side by side.
 
     python benchmarks/bench_sonar_map.py [--reps 3000] [--seed 0] [--size 40] [--against REV]
 
@@ -8,8 +9,9 @@ One ``OccupancyGrid.update`` per control cycle (6 sonars of the default robot, 2
 0.1 m). Every variant sees the same poses and readings and the variants are timed alternately,
 call by call, so they share the machine's load; prints median and 99th percentile
 (microseconds) of the wall clock and of the process's CPU time (less sensitive to other jobs on
-a shared machine) and the ratios elfes / band. Target (issue 12): under 0.5 ms per update on
-400 x 400.
+a shared machine), the ratios elfes / band and, with Numba installed (the ``fast`` extra),
+the ratios numba / numpy (``OccupancyGrid(kernel=...)``; both must build the same maps: the
+largest log-odds difference is printed). Target (issue 12): under 0.5 ms per update on 400 x 400.
 
 ``--against REV`` also times ``nav_bench/mapping/occupancy.py`` as it is at git revision
 ``REV`` (e.g. ``main``), prints the ratios this tree / REV per model, and checks that both
@@ -33,7 +35,7 @@ import numpy as np
 
 from nav_bench.interface import SonarInfo
 from nav_bench.mapping import OccupancyGrid
-from nav_bench.mapping.occupancy import SONAR_MODELS
+from nav_bench.mapping.occupancy import SONAR_MODELS, _kernels
 
 TARGET_US = 500.0
 ROOT = Path(__file__).resolve().parents[1]
@@ -75,7 +77,8 @@ def main() -> None:
                              rng.uniform(-math.pi, math.pi, n)])
     scans = np.where(rng.random((n, 6)) < 0.3, 3.0, rng.uniform(0.2, 2.9, (n, 6)))
     bounds = (0.0, 0.0, size, size)
-    grids = {("this", m): OccupancyGrid(bounds, 0.1, model=m) for m in SONAR_MODELS}
+    kernels = ("numpy", "numba") if _kernels() is not None else ("numpy",)
+    grids = {(k, m): OccupancyGrid(bounds, 0.1, model=m, kernel=k) for k in kernels for m in SONAR_MODELS}
     if args.against:
         other = occupancy_at(args.against).OccupancyGrid
         grids.update({(args.against, m): other(bounds, 0.1, model=m) for m in SONAR_MODELS})
@@ -100,15 +103,19 @@ def main() -> None:
             verdict = "under" if median < TARGET_US else "OVER"
             print(f"  {clock:4s} {tree:8s} {model:6s} median {median:7.1f} us   p99 {p99:8.1f} us   "
                   f"({verdict} the {TARGET_US:.0f} us target)")
-        (m_new, p_new), (m_old, p_old) = stats[clock, ("this", "elfes")], stats[clock, ("this", "band")]
-        print(f"  {clock:4s} ratio elfes / band: median {m_new / m_old:.2f}, p99 {p_new / p_old:.2f}")
-        for model in SONAR_MODELS if args.against else ():
-            (m_new, p_new), (m_old, p_old) = stats[clock, ("this", model)], stats[clock, (args.against, model)]
-            print(f"  {clock:4s} ratio this tree / {args.against} ({model}): median "
+        for kernel in kernels:
+            (m_new, p_new), (m_old, p_old) = stats[clock, (kernel, "elfes")], stats[clock, (kernel, "band")]
+            print(f"  {clock:4s} ratio elfes / band ({kernel}): median {m_new / m_old:.2f}, "
+                  f"p99 {p_new / p_old:.2f}")
+        pairs = [(("numba", m), ("numpy", m)) for m in SONAR_MODELS if len(kernels) > 1]
+        pairs += [((kernels[-1], m), (args.against, m)) for m in SONAR_MODELS if args.against]
+        for new, old in pairs:
+            (m_new, p_new), (m_old, p_old) = stats[clock, new], stats[clock, old]
+            print(f"  {clock:4s} ratio {new[0]} / {old[0]} ({new[1]}): median "
                   f"{m_new / m_old:.2f}, p99 {p_new / p_old:.2f}")
-    for model in SONAR_MODELS if args.against else ():
-        diff = np.abs(grids["this", model].log_odds - grids[args.against, model].log_odds).max()
-        print(f"  {model}: largest |log-odds difference| this tree vs {args.against}: {diff:.3g}")
+    for new, old in pairs:
+        diff = np.abs(grids[new].log_odds - grids[old].log_odds).max()
+        print(f"  {new[1]}: largest |log-odds difference| {new[0]} vs {old[0]}: {diff:.3g}")
 
 
 if __name__ == "__main__":

@@ -54,25 +54,38 @@ through the exact cone and range tests together, and the Konolige normalisation 
 on the arc's cells only. The tables only pick candidates: any superset of a cone's cells, in
 the disc's order, gives the same cells in the same order, so the map does not depend on the
 bin width (2 deg: 3 % more candidates than 0.5 deg, a quarter of the tables to build while
-the robot turns). Per update the work is a fixed number of NumPy calls on the ~600
-candidates (their cost is mostly per call) and three transcendental functions per cell
-(``hypot``, the Elfes weight's ``arctan2``, the value's ``exp``). Fusing all sonars at once
-equals fusing them one after the other as long as no cell lies in two cones; a sonar whose
-cone shares a cell with an earlier one is fused after it. There is no Python loop over cells,
-only small ones over the sonars.
+the robot turns). Fusing all sonars at once equals fusing them one after the other as long as
+no cell lies in two cones; a sonar whose cone shares a cell with an earlier one is fused after
+it. The per-sonar values (a short Python loop over the sonars, with Python's ``math``) are
+common to two ways of doing the per-cell work, chosen per grid (``OccupancyGrid(kernel=...)``):
+
+* ``"numpy"``, the reference: a fixed number of NumPy calls on the ~600 candidates (their cost
+  is mostly per call) and three transcendental functions per cell (``hypot``, the Elfes
+  weight's ``arctan2``, the value's ``exp``); no Python loop over cells.
+* ``"numba"`` (``"auto"`` when Numba is installed, the ``fast`` extra):
+  :mod:`~nav_bench.mapping.occupancy_kernels` reads the candidates from the tables, tests
+  them, finds the runs of sonars and fuses in loops over the cells, with the same IEEE
+  operations in the same order; ``arctan2`` and ``exp`` stay in NumPy between the kernels
+  (their last bits differ in Numba) and ``hypot`` is skipped for cells that a sum of squares
+  with a 1e-9 margin proves seen through. The same log-odds and values bit for bit
+  (tests/mapping/test_occupancy_kernels.py); about 0.45x the NumPy path's CPU per update
+  (results/speed/sonar_kernel_s15).
 """
 
 from __future__ import annotations
 
 import array
 import bisect
+import functools
 import itertools
 import math
 from dataclasses import dataclass
+from types import ModuleType
 from typing import NamedTuple
 
 import numpy as np
 
+from nav_bench import compiled
 from nav_bench.errors import InputError
 from nav_bench.interface import SonarInfo
 from nav_bench.mapping.grid import Bounds, GridFrame, OnGridFrame
@@ -81,6 +94,7 @@ UNKNOWN = 50  # value of a cell never observed (log-odds 0)
 SONAR_MODELS = ("elfes", "band")  # inverse sensor models, see the module docstring
 _AXIS_BINS = 180  # sonar axis directions with their own table of candidate cells (2 deg)
 _AXIS_BIN = 2 * math.pi / _AXIS_BINS  # rad
+KERNELS = ("auto", "numpy", "numba")  # choices of OccupancyGrid's kernel
 
 
 def log_odds_to_values(log_odds: np.ndarray) -> np.ndarray:
@@ -103,6 +117,10 @@ class OccupancyGrid(OnGridFrame):
         hit_thickness: radial thickness of the echo arc, m (default: one cell).
         echo_share: "elfes" only: an arc cell gets at most this many cells' share of the echo
             (``s_i = min(1, echo_share * w_i p_i / sum_j w_j p_j)``, module docstring).
+        kernel: the per-cell loops of :meth:`update`: "numpy" (the reference), "numba"
+            (:mod:`~nav_bench.mapping.occupancy_kernels`, the optional ``fast`` extra; an
+            :class:`~nav_bench.errors.InputError` without Numba) or "auto" (numba when it can be
+            imported). Both give the same log-odds and values, bit for bit.
 
     Points and cells outside the grid are ignored by :meth:`update`.
     """
@@ -110,7 +128,7 @@ class OccupancyGrid(OnGridFrame):
     def __init__(self, bounds: Bounds, cell: float = 0.1, *, model: str = "elfes",
                  l_occ: float = 0.85, l_free: float = -0.4, l_min: float = -2.0,
                  l_max: float = 3.5, hit_thickness: float | None = None,
-                 echo_share: float = 2.0) -> None:
+                 echo_share: float = 2.0, kernel: str = "auto") -> None:
         if model not in SONAR_MODELS:
             raise InputError(f"unknown sonar model {model!r}; expected one of {list(SONAR_MODELS)}")
         if not echo_share > 0:
@@ -141,10 +159,14 @@ class OccupancyGrid(OnGridFrame):
         self._disc_offsets = np.zeros((3, 0))
         self._numbers = np.zeros(0, dtype=np.int64)  # _sonar_numbers
         self._tables: dict[int, _ConeTable] = {}  # _cone_candidates' tables, by axis bin
+        self._all_tables = _AllTables(np.zeros(0, dtype=np.int64), np.zeros(0), 0)  # the same, end to end
         self._sector_cos = np.zeros(0)  # the tables' sector test, per disc cell
         self._tables_key: tuple[float, int] | None = None  # (half cone, disc size) of the tables
         self._ring_of: SonarInfo | None = None  # the sonars _ring describes
         self._ring = _SonarRing((), (), 0.0)
+        self.compiled = _use_kernels(kernel)  # update with occupancy_kernels
+        # occupancy_kernels.cone_cells' scratch over the cells around the robot (-1 between updates)
+        self._marks = np.zeros(0, dtype=np.int32)
 
     # -- state -------------------------------------------------------------------------------
     def values(self, copy: bool = True) -> np.ndarray:
@@ -214,40 +236,44 @@ class OccupancyGrid(OnGridFrame):
         angle = np.nan_to_num(half_cone + shift + widen, nan=math.pi)
         return np.where(angle >= math.pi, -2.0, np.cos(np.minimum(angle, math.pi)) - 1e-9)
 
-    def _cone_candidates(self, axes: list[float], reach: list[float],
-                         half_cone: float) -> tuple[np.ndarray, list[int]]:
-        """The disc cells that can lie in the cones of sonars pointing at ``axes`` (rad) and
-        sitting within half a cell's diagonal of the disc's centre, among each one's disc cells
-        within ``reach`` (m) of the centre: a superset of each cone's cells.
+    def _cone_candidates(self, tables: list[_ConeTable], reach: list[float]) -> tuple[np.ndarray, list[int]]:
+        """The disc cells that can lie in the cones of sonars whose axis directions have these
+        ``tables`` (:meth:`_ensure_tables`) and sitting within half a cell's diagonal of the
+        disc's centre, among each one's disc cells within ``reach`` (m) of the centre: a superset
+        of each cone's cells.
 
         Returns ``(disc, per_sonar)``: (m,) disc cells, sonar by sonar, each sonar's ascending
-        (so by distance); how many are each sonar's. Read from a table per ``_AXIS_BIN`` of axis
-        direction (the sector test widened by half a bin), each built when first needed (all at
-        once would cost several ms in one cycle).
+        (so by distance); how many are each sonar's.
         """
-        key = (half_cone, len(self._disc_d))
-        if self._tables_key != key:
-            self._tables.clear()
-            self._tables_key = key
-            self._sector_cos = self._sector_threshold(half_cone + _AXIS_BIN / 2 + 1e-9,
-                                                      self.frame.cell * math.sqrt(0.5))
         parts, counts = [], []
-        for axis, within in zip(axes, reach, strict=True):
-            b = round(axis / _AXIS_BIN) % _AXIS_BINS
-            table = self._tables.get(b)
-            if table is None:
-                table = self._tables[b] = self._build_table(b)
+        for table, within in zip(tables, reach, strict=True):
             n = bisect.bisect_right(table.dist, within)
             parts.append(table.cells[:n])
             counts.append(n)
         return np.concatenate(parts), counts
 
+    def _ensure_tables(self, half_cone: float) -> None:
+        """Forget the tables if they were made for another cone or disc. There is a table per
+        ``_AXIS_BIN`` of axis direction (the sector test widened by half a bin), each built when
+        first needed (:meth:`_build_table`; all at once would cost several ms in one cycle)."""
+        key = (half_cone, len(self._disc_d))
+        if self._tables_key != key:
+            self._tables.clear()
+            self._all_tables = _AllTables(np.zeros(0, dtype=np.int64), np.zeros(0), 0)
+            self._tables_key = key
+            self._sector_cos = self._sector_threshold(half_cone + _AXIS_BIN / 2 + 1e-9,
+                                                      self.frame.cell * math.sqrt(0.5))
+
     def _build_table(self, b: int) -> _ConeTable:
-        """The table of axis bin ``b``: the disc cells passing the bin's sector test."""
+        """The table of axis bin ``b``: the disc cells passing the bin's sector test, kept (also
+        at the end of :attr:`_all_tables`)."""
         centre = b * _AXIS_BIN
         cells = np.flatnonzero(math.cos(centre) * self._disc_bearing_x
                                + math.sin(centre) * self._disc_bearing_y >= self._sector_cos)
-        return _ConeTable(cells, array.array("d", self._disc_d[cells].tobytes()))
+        self._all_tables = self._all_tables.append(cells, self._disc_d[cells])
+        table = self._tables[b] = _ConeTable(cells, array.array("d", self._disc_d[cells].tobytes()),
+                                             self._all_tables.size - len(cells))
+        return table
 
     def update(self, pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo) -> None:
         """Fuse one set of sonar readings taken at ``pose``.
@@ -261,7 +287,11 @@ class OccupancyGrid(OnGridFrame):
                 means no echo.
             sonar: mount angles/offsets, cone and range limits of the K sonars.
         """
-        cells = self._cone_cells(pose, np.asarray(ranges, dtype=float).reshape(-1), sonar)
+        reading = self._reading(pose, np.asarray(ranges, dtype=float).reshape(-1), sonar)
+        if self.compiled:
+            self._update_compiled(reading, sonar)
+            return
+        cells = self._cone_cells(reading, sonar)
         if cells is None:
             return
         flat_lo = self._log_odds.reshape(-1)
@@ -277,16 +307,8 @@ class OccupancyGrid(OnGridFrame):
         np.divide(100.0, fused, out=fused)
         self._values.reshape(-1)[cells.idx] = np.rint(fused, out=fused)
 
-    def _cone_cells(self, pose: np.ndarray, ranges: np.ndarray,
-                    sonar: SonarInfo) -> _ConeCells | None:
-        """The cells every sonar of this reading updates, all sonars at once (None: no cell).
-
-        Per sonar ``k`` (in order) its cells come in the disc's order (by distance); a cell in two
-        cones appears once per cone. Candidates come from the table of the sonar's axis
-        direction (:meth:`_cone_candidates`) around the sonar's own cell, cut to its reach; the
-        exact cone and range tests on cell centres then decide (module docstring), with the
-        same floating-point operations on the same offsets from the robot's cell as always.
-        """
+    def _reading(self, pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo) -> _Reading:
+        """The per-sonar values of a reading, both paths' input."""
         x, y, yaw = np.asarray(pose, dtype=float)[:3].tolist()
         frame = self.frame
         cell, half_t = frame.cell, self.hit_thickness / 2
@@ -296,19 +318,16 @@ class OccupancyGrid(OnGridFrame):
             self._ring_of = sonar
         ring = self._ring
         self._ensure_disc(sonar.max_range + half_t + ring.mount_reach + cell)
+        self._ensure_tables(sonar.cone / 2)
         # the robot's cell and its centre: GridFrame.cell_center in scalars
         r0, c0 = frame.cell_of(x, y)
         cx0, cy0 = frame.xmin + (c0 + 0.5) * cell, frame.ymin + (r0 + 0.5) * cell
-        half_cone = sonar.cone / 2
-        tan_half = math.tan(half_cone)
         cos_y, sin_y = math.cos(yaw), math.sin(yaw)
         # per sonar, with Python's math (the same values the cell tests always used), the row of
-        # _SONAR_ROWS: its cell (column, row, flat) less the robot's, the robot cell's centre
-        # less the sonar's position (m), its axis, the echo range (-inf: no echo, no arc cell)
-        # and the range below which a cone cell is seen through
+        # _SONAR_ROWS (_Reading)
         rows: list[float] = []
-        axes: list[float] = []
-        reach: list[float] = []  # disc radius around the sonar's cell holding its cells, m
+        tables: list[_ConeTable] = []
+        reach: list[float] = []
         home_span = 0  # the farthest sonar cell from the robot's, along a row or a column
         no_echo_free = math.nextafter(sonar.max_range, math.inf)  # "dist <= max_range"
         for (ox, oy), angle, r in zip(ring.offsets, ring.angles, ranges.tolist(), strict=True):
@@ -318,21 +337,45 @@ class OccupancyGrid(OnGridFrame):
             echo = math.isfinite(r) and r < sonar.max_range
             rk, ck = frame.cell_of(sx, sy)
             hr, hc = rk - r0, ck - c0
-            rows += (hc, hr, hr * width + hc, cx0 - sx, cy0 - sy, math.cos(a), math.sin(a),
-                     r if echo else -math.inf, r - half_t if echo else no_echo_free)
-            axes.append(a)
             home_span = max(home_span, abs(hr), abs(hc))
             # centres within reach of the sonar lie within reach + |sonar - its cell's centre|
             # of its cell's centre
-            reach.append((r + half_t if echo else sonar.max_range) + math.hypot(
-                frame.xmin + (ck + 0.5) * cell - sx, frame.ymin + (rk + 0.5) * cell - sy))
-        count = len(axes)
-        # candidates are picked around each sonar's own cell, whose centre is within half a
-        # diagonal of the sonar
-        disc, per_row = self._cone_candidates(axes, reach, half_cone)
+            within = (r + half_t if echo else sonar.max_range) + math.hypot(
+                frame.xmin + (ck + 0.5) * cell - sx, frame.ymin + (rk + 0.5) * cell - sy)
+            b = round(a / _AXIS_BIN) % _AXIS_BINS
+            table = self._tables.get(b)
+            if table is None:
+                table = self._build_table(b)
+            rows += (hc, hr, hr * width + hc, cx0 - sx, cy0 - sy, math.cos(a), math.sin(a),
+                     r if echo else -math.inf, r - half_t if echo else no_echo_free,
+                     table.start, len(table.cells), within)
+            tables.append(table)
+            reach.append(within)
+        # cells from (r0, c0) to the farthest candidate along a row or a column
+        span = self._disc_span + home_span
+        return _Reading(np.array(rows).reshape(len(tables), _SONAR_ROWS), tables, reach, r0, c0, span,
+                        not (span <= r0 < height - span and span <= c0 < width - span))
+
+    def _cone_cells(self, reading: _Reading, sonar: SonarInfo) -> _ConeCells | None:
+        """The cells every sonar of this reading updates, all sonars at once (None: no cell).
+
+        Per sonar ``k`` (in order) its cells come in the disc's order (by distance); a cell in two
+        cones appears once per cone. Candidates come from the table of the sonar's axis
+        direction (:meth:`_cone_candidates`) around the sonar's own cell (whose centre is within
+        half a diagonal of the sonar), cut to its reach; the exact cone and range tests on cell
+        centres then decide (module docstring), with the same floating-point operations on the
+        same offsets from the robot's cell as always.
+        """
+        cell, half_t = self.frame.cell, self.hit_thickness / 2
+        height, width = self.frame.shape
+        half_cone = sonar.cone / 2
+        tan_half = math.tan(half_cone)
+        r0, c0, span = reading.r0, reading.c0, reading.span
+        count = len(reading.rows)
+        disc, per_row = self._cone_candidates(reading.tables, reading.reach)
         sonar_of = self._sonar_numbers(count).repeat(per_row)
-        # each candidate's sonar row: (_SONAR_ROWS, m)
-        per_sonar = np.array(rows).reshape(count, _SONAR_ROWS).T.take(sonar_of, axis=1)
+        # each candidate's sonar row, up to its echo: (_ECHO_ROWS, m)
+        per_sonar = reading.rows[:, :_ECHO_ROWS].T.take(sonar_of, axis=1)
         # column, row and flat offsets from the robot's cell (whole numbers, exact as floats)
         offsets = self._disc_offsets.take(disc, axis=1)
         offsets += per_sonar[:3]
@@ -352,9 +395,7 @@ class OccupancyGrid(OnGridFrame):
         occ = np.abs(bound, out=bound) <= half_t
         occ &= touched
         touched &= occ | (dist < per_sonar[8])
-        # cells from (r0, c0) to the farthest candidate along a row or a column
-        span = self._disc_span + home_span
-        if not (span <= r0 < height - span and span <= c0 < width - span):
+        if reading.edges:
             dc, dr = offsets[0], offsets[1]
             touched &= (dr >= -r0) & (dr < height - r0) & (dc >= -c0) & (dc < width - c0)
         keep = touched.nonzero()[0]  # np.flatnonzero without its Python wrappers
@@ -376,6 +417,43 @@ class OccupancyGrid(OnGridFrame):
         return _ConeCells(idx=local + (r0 - span) * width, sonar=sonar_of.take(keep), local=local,
                           local_size=(2 * span + 1) * width, occ=occ.take(keep), weight=weight,
                           count=count)
+
+    def _update_compiled(self, reading: _Reading, sonar: SonarInfo) -> None:
+        """:meth:`update`'s cells, fusion and values with :mod:`~nav_bench.mapping.occupancy_kernels`
+        (the NumPy path's operations: the same log-odds and values, bit for bit); the ``arctan2``
+        and ``exp`` stay in NumPy."""
+        kernels = _kernels()
+        flat_lo = self._log_odds.reshape(-1)
+        n, idx, sonar_of, occ, off_axis, along, bounds, runs = self._compiled_cells(reading, sonar)
+        if n == 0:
+            return
+        idx = idx[:n]
+        elfes = self.model == "elfes"
+        weight = off_axis[:n]
+        if elfes:  # angle from the axis on the half-cell-widened cone (module docstring)
+            np.arctan2(weight, along[:n], out=weight)
+            kernels.elfes_weight(weight, sonar.cone / 2)
+        negated = np.empty(n)  # -log-odds of the cells after their run
+        for start, stop in itertools.pairwise(bounds[:runs + 1].tolist()):
+            arc_exp = kernels.arc_log_odds(flat_lo, idx, occ, start, stop) if elfes else off_axis[:0]
+            kernels.fuse(flat_lo, idx, sonar_of, occ, weight, np.exp(arc_exp, out=arc_exp),
+                         len(reading.rows), start, stop, elfes, self.l_occ, self.l_free, self.l_min,
+                         self.l_max, self.echo_share, negated)
+        if runs > 1:  # a cell may have changed in two runs: read its final log-odds
+            kernels.negated_log_odds(flat_lo, idx, negated)
+        kernels.write_values(self._values.reshape(-1), idx, np.exp(negated, out=negated))
+
+    def _compiled_cells(self, reading: _Reading, sonar: SonarInfo) -> tuple:
+        """:func:`~nav_bench.mapping.occupancy_kernels.cone_cells` of a reading (its docstring
+        says what it returns)."""
+        frame = self.frame
+        if len(self._marks) < (2 * reading.span + 1) ** 2:
+            self._marks = np.full((2 * reading.span + 3) ** 2, -1, dtype=np.int32)  # a cell to spare
+        tables = self._all_tables
+        return _kernels().cone_cells(
+            tables.cells, tables.dist, reading.rows, self._disc_offsets[0],
+            self._disc_offsets[1], frame.cell, math.tan(sonar.cone / 2), self.hit_thickness / 2,
+            reading.r0, reading.c0, frame.rows, frame.cols, reading.edges, reading.span, self._marks)
 
     def _sonar_numbers(self, count: int) -> np.ndarray:
         """(count,) 0, 1, .. count - 1, kept between updates."""
@@ -438,13 +516,61 @@ class OccupancyGrid(OnGridFrame):
 class _ConeTable(NamedTuple):
     """One axis bin's candidate cells (:meth:`OccupancyGrid._cone_candidates`): their disc
     indices (m,), ascending (so by distance from the disc's centre), and those distances, m
-    (a flat array of doubles for ``bisect``: no Python float objects for the collector to visit)."""
+    (a flat array of doubles for ``bisect``: no Python float objects for the collector to visit);
+    where they start in the grid's :class:`_AllTables`."""
 
     cells: np.ndarray
     dist: array.array
+    start: int
 
 
-_SONAR_ROWS = 9  # per-sonar values of OccupancyGrid._cone_cells
+class _AllTables(NamedTuple):
+    """The built :class:`_ConeTable` s end to end, for the kernels: ``cells[:size]``,
+    ``dist[:size]`` (the arrays have room to grow)."""
+
+    cells: np.ndarray
+    dist: np.ndarray
+    size: int
+
+    def append(self, cells: np.ndarray, dist: np.ndarray) -> _AllTables:
+        """These with one more table at the end (the arrays doubled when full)."""
+        size = self.size + len(cells)
+        if size > len(self.cells):
+            room = max(size, 2 * len(self.cells))
+            grown = _AllTables(np.zeros(room, dtype=np.int64), np.zeros(room), self.size)
+            grown.cells[:self.size], grown.dist[:self.size] = self.cells[:self.size], self.dist[:self.size]
+            return grown.append(cells, dist)
+        self.cells[self.size:size], self.dist[self.size:size] = cells, dist
+        return _AllTables(self.cells, self.dist, size)
+
+
+_SONAR_ROWS = 12  # per-sonar values of OccupancyGrid._reading (_Reading.rows)
+_ECHO_ROWS = 9  # the first ones, which the cell tests read
+
+
+class _Reading(NamedTuple):
+    """One reading's input to the cell tests (:meth:`OccupancyGrid._reading`).
+
+    Attributes:
+        rows: (K, _SONAR_ROWS) per sonar: its cell's column, row and flat offsets from the
+            robot's cell, the robot cell's centre less the sonar's position (m), its axis
+            (cos, sin), its echo range (m; -inf: no echo), the range below which a cone cell
+            is seen through (m); its table's start and length in the grid's
+            :class:`_AllTables` and its reach (m, as in ``reach``).
+        tables: per sonar the :class:`_ConeTable` of its axis direction.
+        reach: per sonar the disc radius around its cell holding its cells, m.
+        r0, c0: the robot's cell.
+        span: cells from (r0, c0) to the farthest candidate along a row or a column.
+        edges: whether candidates may fall outside the grid (the bounds test is needed).
+    """
+
+    rows: np.ndarray
+    tables: list[_ConeTable]
+    reach: list[float]
+    r0: int
+    c0: int
+    span: int
+    edges: bool
 
 
 class _ConeCells(NamedTuple):
@@ -483,3 +609,37 @@ class _SonarRing:
         offsets = tuple((float(ox), float(oy)) for ox, oy in np.asarray(sonar.offsets, dtype=float))
         reach = max((math.hypot(ox, oy) for ox, oy in offsets), default=0.0)
         return cls(offsets, tuple(float(a) for a in sonar.angles), reach)
+
+
+def _kernels() -> ModuleType | None:
+    """:mod:`nav_bench.mapping.occupancy_kernels`, or None without Numba (looked up, not kept:
+    a grid pickles)."""
+    return compiled.load("nav_bench.mapping.occupancy_kernels")
+
+
+def _use_kernels(kernel: str) -> bool:
+    """Whether a grid built with ``kernel`` (:data:`KERNELS`) updates with the compiled kernels;
+    loads their machine code once per process (:func:`_load_compiled_code`)."""
+    if kernel not in KERNELS:
+        raise InputError(f"occupancy grid kernel must be one of {list(KERNELS)}, got {kernel!r}")
+    if kernel == "numpy":
+        return False
+    if _kernels() is None:
+        if kernel == "numba":
+            raise InputError("occupancy grid kernel 'numba' needs Numba: pip install 'nav-bench[fast]'")
+        return False
+    _load_compiled_code()
+    return True
+
+
+@functools.cache
+def _load_compiled_code() -> None:
+    """One update per model with the kernels on a small grid (every kernel called, two runs
+    and the grid's edge included), so that Numba loads their machine code from its cache (or
+    compiles it) while the planner is set up, once per process, not in its first control cycle."""
+    sonar = SonarInfo(angles=np.array([0.0, 0.0]), offsets=np.zeros((2, 2)), cone=0.5,
+                      min_range=0.05, max_range=1.0)
+    for model in SONAR_MODELS:
+        grid = OccupancyGrid((0.0, 0.0, 1.0, 1.0), 0.1, model=model, kernel="numpy")
+        grid.compiled = True
+        grid.update(np.array([0.5, 0.5, 0.0]), np.array([0.3, 0.3]), sonar)

@@ -12,6 +12,8 @@ from nav_bench.errors import InputError
 from nav_bench.interface import SonarInfo
 from nav_bench.mapping import GridFrame, OccupancyGrid, log_odds_to_values
 
+pytestmark = pytest.mark.usefixtures("grid_kernel")  # both update paths (conftest.py)
+
 # these tests pin the three-band model (its numbers are exact and simple); the default Elfes
 # model is tested in test_sonar_model.py
 BandGrid = functools.partial(OccupancyGrid, model="band")

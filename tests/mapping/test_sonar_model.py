@@ -15,6 +15,8 @@ from nav_bench.interface import SonarInfo
 from nav_bench.mapping import OccupancyGrid, log_odds_to_values
 from tests.helpers.sonar_scene import brute_force, diffbot_sonar, readings
 
+pytestmark = pytest.mark.usefixtures("grid_kernel")  # both update paths (conftest.py)
+
 OBSTACLE_ABOVE = 65
 ONE_SONAR = SonarInfo(angles=np.array([0.0]), offsets=np.zeros((1, 2)), cone=math.radians(25.0),
                       min_range=0.05, max_range=3.0)
