@@ -1,7 +1,7 @@
 """The default suite's worker CPU-seconds: an older revision and this tree, side by side.
 
     python benchmarks/bench_suite.py [--before REV] [--suite FILE] [--worlds W,W] [--planners L,L]
-                                     [--seeds 0,1] [--out DIR] [--lockstep]
+                                     [--seeds 0,1] [--out DIR] [--lockstep | --alternate]
 
 ``--before REV`` (default ``main``) is checked out as a git worktree in a temporary folder and
 played with ``PYTHONPATH`` pointing at it; this tree is played the same way. Both play the same
@@ -21,8 +21,12 @@ differ when the revisions' settings differ.
 Without it the faster side finishes early and its figures come from the first part of the run
 only; on a machine whose speed drifts within minutes (a shared VM), the two sides then see
 different machines. In lockstep both sides play job k in the same stretch of time; the faster
-one waits (sleeping, no CPU) for the slower. Only the jobs both sides play are paced: give both
-the same suite.
+one waits (sleeping, no CPU) for the slower. ``--alternate``: one job at a time, the two sides
+taking turns (before's job k, then after's job k, then before's job k + 1): each job runs with
+no other player beside it, so neither side's figures carry the other's contention for the
+shared cache and memory, and drift reaches both sides alike; the wall time is the sum of both
+sides' (about 11 minutes for the default suite against 41dac48 here). Only the jobs both sides
+play are paced: give both the same suite.
 """
 
 from __future__ import annotations
@@ -42,11 +46,14 @@ ROOT = Path(__file__).resolve().parents[1]
 
 # --------------------------------------------------------------------------- one tree's player
 def play(tree: Path, suite_file: Path, out: Path, worlds: set[str] | None,
-         labels: set[str] | None, seeds: set[int] | None, pace: Path | None = None) -> None:
+         labels: set[str] | None, seeds: set[int] | None, pace: Path | None = None,
+         alternate: bool = False) -> None:
     """Play the suite's selected jobs with the code of ``tree`` (on ``sys.path`` by
     ``PYTHONPATH``) and append one row per job to ``out/episodes.jsonl``. With ``pace`` (a
     folder both players share), job k starts only once the other player has finished job k - 1
-    (:func:`wait_for_peer`)."""
+    (``lockstep``), or, with ``alternate``, the before player's job k only once the after
+    player has finished job k - 1 and the after player's job k only once the before player has
+    finished job k (:func:`wait_for_peer`)."""
     import nav_bench
     from nav_bench.batch.suite import expand, load_suite
     from nav_bench.batch.worker import execute_job, run_job
@@ -59,7 +66,7 @@ def play(tree: Path, suite_file: Path, out: Path, worlds: set[str] | None,
     with (out / "episodes.jsonl").open("a") as fh:
         for k, job in enumerate(jobs):
             if pace is not None:
-                wait_for_peer(pace, out.name, k)
+                wait_for_peer(pace, out.name, k + 1 if alternate and out.name == "after" else k)
             cpu0, wall0 = time.process_time(), time.perf_counter()
             result = execute_job(job, run_job)
             if result.trace is not None:  # a worker writes the trace: part of its cost
@@ -104,8 +111,10 @@ def start_player(tree: Path, args: argparse.Namespace, out: Path) -> subprocess.
     for name in ("worlds", "planners", "seeds"):
         if getattr(args, name):
             cmd += [f"--{name}", getattr(args, name)]
-    if args.lockstep:
+    if args.lockstep or args.alternate:
         cmd += ["--pace", str(out.parent / "pace")]
+    if args.alternate:
+        cmd += ["--alternate"]
     log = (out.parent / f"{out.name}.log").open("w")
     return subprocess.Popen(cmd, env=env, cwd=tree, stdout=log, stderr=subprocess.STDOUT)
 
@@ -149,6 +158,10 @@ def report(before: dict, after: dict, rev: str) -> None:
         print(f"  {k}: {ob} -> {oa}")
 
 
+def pacing_note(args: argparse.Namespace) -> str:
+    return ", lockstep" if args.lockstep else ", alternate (one job at a time)" if args.alternate else ""
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--before", default="main", help="git revision to compare with (default main)")
@@ -157,8 +170,11 @@ def main() -> None:
     ap.add_argument("--planners", help="comma-separated suite labels (default: all)")
     ap.add_argument("--seeds", help="comma-separated seeds (default: all)")
     ap.add_argument("--out", type=Path, help="results folder (default: a new temporary one)")
-    ap.add_argument("--lockstep", action="store_true",
-                    help="each side starts job k only once the other has finished job k - 1")
+    pacing = ap.add_mutually_exclusive_group()
+    pacing.add_argument("--lockstep", action="store_true",
+                        help="each side starts job k only once the other has finished job k - 1")
+    pacing.add_argument("--alternate", action="store_true",
+                        help="one job at a time, the sides taking turns (no contention between them)")
     ap.add_argument("--play", type=Path, help=argparse.SUPPRESS)  # internal: one tree's player
     ap.add_argument("--pace", type=Path, help=argparse.SUPPRESS)  # internal: the lockstep folder
     args = ap.parse_args()
@@ -167,14 +183,15 @@ def main() -> None:
         return set(s.split(",")) if s else None
     if args.play is not None:
         play(args.play, args.suite, args.out, pick(args.worlds), pick(args.planners),
-             {int(s) for s in args.seeds.split(",")} if args.seeds else None, args.pace)
+             {int(s) for s in args.seeds.split(",")} if args.seeds else None, args.pace,
+             args.alternate)
         return
     out = (args.out or Path(tempfile.mkdtemp(prefix="bench_suite_"))).resolve()
     out.mkdir(parents=True, exist_ok=True)
     for side in ("before", "after"):
         if (out / side / "episodes.jsonl").exists():
             sys.exit(f"error: {out / side} already holds rows; give a new --out")
-    if args.lockstep:
+    if args.lockstep or args.alternate:
         (out / "pace").mkdir(exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="bench_suite_rev_") as tmp:
         old = worktree(args.before, Path(tmp) / "before")
@@ -189,7 +206,8 @@ def main() -> None:
     if any(codes):
         sys.exit(f"error: a player failed (exit {codes}); see {out}/before.log, {out}/after.log")
     print(f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f} at the end, "
-          f"{wall:.0f} s wall{', lockstep' if args.lockstep else ''}; rows in {out}")
+          f"{wall:.0f} s wall{pacing_note(args)}; rows in {out}")
+
     report(read_rows(out / "before"), read_rows(out / "after"), args.before)
 
 
