@@ -1,7 +1,7 @@
 """Planning cost per control cycle of every shipped planner, over real episodes.
 
     python benchmarks/bench_planning.py [--planners P,P] [--big-only] [--worlds W,W]
-                                        [--time-s 60] [--seed 0]
+                                        [--time-s 60] [--seed 0] [--rounds 1]
 
 ``P``: a planner name, or a name with overrides (``dstar_lite:search_kernel=python``).
 
@@ -18,6 +18,13 @@ loaded machine does not inflate) and the wall-clock time the trace records (``pl
 Prints per planner and world: cycles, median, p99 and max (ms), and per planner on the 400 x 400
 grid whether it meets the target (median < 1 ms, p99 < 10 ms). Wall-clock figures: on a shared
 machine they include other processes' interference; quote them with the load average printed.
+
+``--rounds N`` plays the whole list N times, planner after planner in each round, and pools each
+planner's cycles over the rounds (the same episode each time: the same cycles, timed N times).
+On a machine whose speed drifts within minutes (a shared VM: the same code's median moved 2x
+between runs a minute apart) one round times each planner in a few seconds of its own, so a
+slow spell lands on one planner; pooled rounds spread every planner over the whole run. Each
+round's median is printed too, to show the spread.
 """
 
 from __future__ import annotations
@@ -90,7 +97,11 @@ def main() -> None:
     ap.add_argument("--big-only", action="store_true", help="only the 40 m x 40 m world")
     ap.add_argument("--time-s", type=float, default=60.0, help="simulated s per episode (60)")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--rounds", type=int, default=1,
+                    help="play the list this many times, pooling each planner's cycles (1)")
     args = ap.parse_args()
+    if args.rounds < 1:
+        sys.exit(f"error: --rounds must be at least 1, got {args.rounds}")
     planners = args.planners.split(",") if args.planners else sorted(BUILTIN)
     unknown = sorted({p.partition(":")[0] for p in planners} - set(BUILTIN))
     if unknown:
@@ -108,15 +119,24 @@ def main() -> None:
         f"{'median':>8s} {'p99':>8s} {'max':>8s}   "))
     verdict = {}
     t0 = time.perf_counter()
-    for planner in planners:
-        for world in worlds:
-            wall, cpu, outcome = plan_ms(world, planner, args.time_s, args.seed)
-            stats = [(float(np.median(ms)), float(np.percentile(ms, 99)), float(ms.max()))
-                     for ms in (cpu, wall)]
-            print(f"{planner:12s} {world.name:14s} {outcome:8s} {len(cpu):6d} " + "".join(
-                f"{a:8.3f} {b:8.3f} {c:8.3f}   " for a, b, c in stats), flush=True)
-            if world.name == BIG:
-                verdict[planner] = stats
+    pooled: dict[tuple[str, str], list[tuple[np.ndarray, np.ndarray, str]]] = {}
+    for _ in range(args.rounds):
+        for planner in planners:
+            for world in worlds:
+                pooled.setdefault((planner, world.name), []).append(
+                    plan_ms(world, planner, args.time_s, args.seed))
+    for (planner, world_name), runs in pooled.items():
+        cpu, wall = np.concatenate([r[1] for r in runs]), np.concatenate([r[0] for r in runs])
+        outcome = runs[0][2]
+        stats = [(float(np.median(ms)), float(np.percentile(ms, 99)), float(ms.max()))
+                 for ms in (cpu, wall)]
+        print(f"{planner:12s} {world_name:14s} {outcome:8s} {len(cpu):6d} " + "".join(
+            f"{a:8.3f} {b:8.3f} {c:8.3f}   " for a, b, c in stats), flush=True)
+        if len(runs) > 1:
+            print(f"{'':37s} CPU median per round: "
+                  + " ".join(f"{np.median(r[1]):.3f}" for r in runs))
+        if world_name == BIG:
+            verdict[planner] = stats
     print(f"\non {BIG} (400 x 400 cells), target median < {TARGET_MEDIAN_MS:g} ms and "
           f"p99 < {TARGET_P99_MS:g} ms:")
     for planner, stats in verdict.items():
