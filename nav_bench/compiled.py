@@ -38,12 +38,12 @@ def kernel(**options: Any) -> Callable[[Callable[..., Any]], Any]:
 
 @functools.cache
 def load(module: str) -> ModuleType | None:
-    """The kernel module ``module`` (dotted name), or None when Numba cannot be imported (the
-    ``fast`` extra is not installed, or this Numba does not support this NumPy). Imported on
-    first use only (Numba's import takes ~0.3 s), and remembered."""
+    """The kernel module ``module`` (dotted name), or None when Numba cannot be imported: the
+    ``fast`` extra is not installed, or this Numba refuses this NumPy (it raises an ImportError
+    of its own then, naming no module). Imported on first use only (Numba's import takes
+    ~0.3 s), and remembered. An error in the kernel module itself is raised."""
     try:
-        return importlib.import_module(module)
-    except ImportError as exc:
-        if exc.name is not None and exc.name.split(".")[0] in ("numba", "llvmlite"):
-            return None
-        raise
+        importlib.import_module("numba")
+    except ImportError:
+        return None
+    return importlib.import_module(module)

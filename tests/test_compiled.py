@@ -21,6 +21,15 @@ def test_a_kernel_module_is_none_when_numba_cannot_be_imported(monkeypatch, tmp_
     assert compiled.load("needs_numba_mod") is None
 
 
+def test_a_numba_that_refuses_this_numpy_counts_as_no_numba(monkeypatch, tmp_path):
+    # Numba raises "Numba needs NumPy 2.3 or less" as a plain ImportError (no module name)
+    (tmp_path / "numba.py").write_text("raise ImportError('Numba needs NumPy 2.3 or less. Got NumPy 2.9.')\n")
+    (tmp_path / "kernel_mod_x.py").write_text("import numba\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delitem(sys.modules, "numba", raising=False)
+    assert compiled.load("kernel_mod_x") is None
+
+
 def test_an_import_error_of_anything_but_numba_is_raised(tmp_path, monkeypatch):
     (tmp_path / "broken_kernel_mod.py").write_text("import no_such_module_anywhere\n")
     monkeypatch.syspath_prepend(str(tmp_path))
