@@ -10,7 +10,9 @@ ones it would be under threshold_low
     parts on or in the obstacles kept, the best a carving can do).
 The first measures the carving's memory, the second the map's proud parts; what neither opens
 is closed by the obstacles themselves within r_rs of the ray (VFH+'s enlargement).
-PYTHONPATH=$PWD python results/baselines/vfh_s14/closers.py TRACE.npz [--near 1.3] [--look 0.8]
+--at X Y (the fifteenth session): the gap's midpoint, m, in place of the route's least-clearance point, which
+lands on a one-sided hug where the widest route keeps r* from one obstacle over a stretch (vfh_s15).
+PYTHONPATH=$PWD python results/baselines/vfh_s14/closers.py TRACE.npz [--near 1.3] [--look 0.8] [--at X Y]
 """
 import argparse
 import math
@@ -33,6 +35,7 @@ ap = argparse.ArgumentParser()
 ap.add_argument("trace")
 ap.add_argument("--near", type=float, default=1.3)
 ap.add_argument("--look", type=float, default=0.8)
+ap.add_argument("--at", type=float, nargs=2, default=None)
 a = ap.parse_args()
 replay = load(a.trace)
 world = world_from_data(replay.meta["world"])
@@ -41,6 +44,9 @@ goal = np.asarray(world.goal, float)
 loop = replay.true[replay.t >= replay.t[-1] - 90, :2]
 best = loop[int(np.argmin(np.hypot(*(loop - goal).T)))]
 mid, half = gap_midpoint(g, tuple(best), tuple(goal), 1.5)
+if a.at is not None:  # the two-sided constriction
+    mid = np.asarray(a.at, float)
+    half = float(clearance(g, mid[None])[0])
 way = widest_route(g, tuple(best), tuple(goal))[0][1]  # along the middle of the gaps
 run = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(way, axis=0).T))])
 p = replay.planner
