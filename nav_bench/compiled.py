@@ -20,6 +20,10 @@ from collections.abc import Callable
 from types import ModuleType
 from typing import Any
 
+from nav_bench.errors import InputError
+
+KERNEL_CHOICES = ("auto", "numpy", "numba")  # a kernel choice: auto, the NumPy reference, compiled
+
 
 def kernel(**options: Any) -> Callable[[Callable[..., Any]], Any]:
     """``numba.njit(**options)`` with an on-disk cache, or without one where Numba finds no
@@ -47,3 +51,20 @@ def load(module: str) -> ModuleType | None:
     except ImportError:
         return None
     return importlib.import_module(module)
+
+
+def use_kernels(choice: str, kernels: Callable[[], ModuleType | None], what: str) -> bool:
+    """Whether an object offering the choice ``choice`` (:data:`KERNEL_CHOICES`) runs compiled
+    kernels: ``numpy`` never, ``numba`` always (an :class:`~nav_bench.errors.InputError` naming
+    the ``fast`` extra without Numba), ``auto`` when they load. ``kernels``: the caller's loader
+    of its kernel module (a :func:`load`; None without Numba). ``what`` names the object in the
+    errors ("occupancy grid", "carving")."""
+    if choice not in KERNEL_CHOICES:
+        raise InputError(f"{what} kernel must be one of {list(KERNEL_CHOICES)}, got {choice!r}")
+    if choice == "numpy":
+        return False
+    if kernels() is None:
+        if choice == "numba":
+            raise InputError(f"{what} kernel 'numba' needs Numba: pip install 'nav-bench[fast]'")
+        return False
+    return True

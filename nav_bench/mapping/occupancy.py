@@ -94,7 +94,6 @@ UNKNOWN = 50  # value of a cell never observed (log-odds 0)
 SONAR_MODELS = ("elfes", "band")  # inverse sensor models, see the module docstring
 _AXIS_BINS = 180  # sonar axis directions with their own table of candidate cells (2 deg)
 _AXIS_BIN = 2 * math.pi / _AXIS_BINS  # rad
-KERNELS = ("auto", "numpy", "numba")  # choices of OccupancyGrid's kernel
 
 
 def log_odds_to_values(log_odds: np.ndarray) -> np.ndarray:
@@ -618,15 +617,10 @@ def _kernels() -> ModuleType | None:
 
 
 def _use_kernels(kernel: str) -> bool:
-    """Whether a grid built with ``kernel`` (:data:`KERNELS`) updates with the compiled kernels;
-    loads their machine code once per process (:func:`_load_compiled_code`)."""
-    if kernel not in KERNELS:
-        raise InputError(f"occupancy grid kernel must be one of {list(KERNELS)}, got {kernel!r}")
-    if kernel == "numpy":
-        return False
-    if _kernels() is None:
-        if kernel == "numba":
-            raise InputError("occupancy grid kernel 'numba' needs Numba: pip install 'nav-bench[fast]'")
+    """Whether a grid built with ``kernel`` (:data:`nav_bench.compiled.KERNEL_CHOICES`) updates
+    with the compiled kernels; loads their machine code once per process
+    (:func:`_load_compiled_code`)."""
+    if not compiled.use_kernels(kernel, _kernels, "occupancy grid"):
         return False
     _load_compiled_code()
     return True

@@ -27,7 +27,6 @@ from types import ModuleType
 import numpy as np
 
 from nav_bench import compiled
-from nav_bench.errors import InputError
 from nav_bench.interface import Observation, RobotInfo, SonarInfo
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.planners.footprint import (
@@ -43,7 +42,6 @@ VIEW_MOVE_M, VIEW_TURN_RAD = 0.03, math.radians(5.0)  # a new view for carving: 
 CARVE_MEMORY_S = 3.0  # s: a part seen through this recently stays carved
 PARTS = CARVE_SUB * CARVE_SUB  # parts per cell
 INF = math.inf
-CARVING_KERNELS = ("auto", "numpy", "numba")  # choices of SeeThroughCarving's kernel
 
 
 def load_kernels() -> ModuleType | None:
@@ -94,11 +92,7 @@ class SeeThroughCarving:
     """
 
     def __init__(self, frame: GridFrame, pose: np.ndarray, kernel: str = "auto") -> None:
-        if kernel not in CARVING_KERNELS:
-            raise InputError(f"carving kernel must be one of {list(CARVING_KERNELS)}, got {kernel!r}")
-        if kernel == "numba" and load_kernels() is None:
-            raise InputError("carving kernel 'numba' needs Numba: pip install 'nav-bench[fast]'")
-        self.compiled = kernel != "numpy" and load_kernels() is not None
+        self.compiled = compiled.use_kernels(kernel, load_kernels, "carving")
         if self.compiled:
             _load_compiled_code()
         self.frame = frame
