@@ -53,15 +53,18 @@ def load(module: str) -> ModuleType | None:
     return importlib.import_module(module)
 
 
-def use_kernels(choice: str, kernels: Callable[[], ModuleType | None], what: str) -> bool:
-    """Whether an object offering the choice ``choice`` (:data:`KERNEL_CHOICES`) runs compiled
-    kernels: ``numpy`` never, ``numba`` always (an :class:`~nav_bench.errors.InputError` naming
+def use_kernels(choice: str, kernels: Callable[[], ModuleType | None], what: str,
+                reference: str = "numpy") -> bool:
+    """Whether an object offering the choice ``choice`` (:data:`KERNEL_CHOICES`, with
+    ``reference`` naming its uncompiled code: "numpy", or "python" for D* Lite's search) runs
+    compiled kernels: the reference never, ``numba`` always (an :class:`~nav_bench.errors.InputError` naming
     the ``fast`` extra without Numba), ``auto`` when they load. ``kernels``: the caller's loader
     of its kernel module (a :func:`load`; None without Numba). ``what`` names the object in the
-    errors ("occupancy grid", "carving")."""
-    if choice not in KERNEL_CHOICES:
-        raise InputError(f"{what} kernel must be one of {list(KERNEL_CHOICES)}, got {choice!r}")
-    if choice == "numpy":
+    errors ("occupancy grid", "carving", "search")."""
+    choices = ("auto", reference, "numba")
+    if choice not in choices:
+        raise InputError(f"{what} kernel must be one of {list(choices)}, got {choice!r}")
+    if choice == reference:
         return False
     if kernels() is None:
         if choice == "numba":

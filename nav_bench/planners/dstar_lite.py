@@ -634,11 +634,7 @@ def make_search(cost: np.ndarray, start: Sequence[int], goal: Sequence[int],
     ``numba`` (:class:`CompiledSearch`; an :class:`~nav_bench.errors.InputError` without
     Numba) or ``auto`` (numba when it can be imported, else python). Both give the same
     ``g``, ``rhs``, expansions and paths, bit for bit."""
-    if kernel not in SEARCH_KERNELS:
-        raise InputError(f"search kernel must be one of {list(SEARCH_KERNELS)}, got {kernel!r}")
-    if kernel == "python":
-        return DStarLiteSearch(cost, start, goal)
-    if kernel == "auto" and load_kernels() is None:
+    if not compiled.use_kernels(kernel, load_kernels, "search", reference="python"):
         return DStarLiteSearch(cost, start, goal)
     search = CompiledSearch(cost, start, goal)
     _load_compiled_code()
