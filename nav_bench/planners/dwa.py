@@ -461,6 +461,18 @@ def occupied_points(grid: OccupancyGrid, xy: np.ndarray, reach: float, above: fl
     return pts[np.hypot(pts[:, 0] - x, pts[:, 1] - y) <= reach]
 
 
+# dwa_global's own defaults of DWA's parameters (results/baselines/dwa_global_s7/, dwa_global_s16/):
+# * k_clearance 0.6, not 0.3: with the nearer local goal (lookahead) the heading term pulls arcs
+#   toward the corners the path rounds more often; at 0.3 one family episode and one paper
+#   episode touched an obstacle, at 0.6 none did;
+# * goal_tolerance 0.1 m, not 0.2 (ROS dwa_local_planner's xy_goal_tolerance default): the robot
+#   stops on its odometry, which drifts 0.1-0.3 m over the long drives a global path leads it on,
+#   and the episode accepts 0.3 m of the true goal; at 0.2 m it stopped 0.31-0.41 m short in 4
+#   of its 7 family failures. Plain dwa keeps 0.2: gated, it reached 4 fewer family layouts, all
+#   lost 2-8 m from the goal, 2 of them lost too with 0.2000001 m (the noise of another id).
+DWA_GLOBAL_DEFAULTS = {"k_clearance": 0.6, "goal_tolerance": 0.1}
+
+
 class DWAGlobal(DStarLite, DWA):
     """DWA (Fox, Burgard & Thrun 1997) following D* Lite on the sonar grid (move_base style).
 
@@ -470,14 +482,14 @@ class DWAGlobal(DStarLite, DWA):
     reference: ClassVar[str] = ("Fox, Burgard & Thrun, IEEE RAM 1997 (DWA) following Koenig & "
                                 "Likhachev, D* Lite, AAAI 2002")
     params: ClassVar[tuple[Param, ...]] = (
-        # k_clearance 0.6, not DWA's 0.3: with the nearer local goal (lookahead) the heading term
-        # pulls arcs toward the corners the path rounds more often; at 0.3 one family episode
-        # and one paper episode touched an obstacle, at 0.6 none did (results/baselines/dwa_global_s7/)
-        *(dataclasses.replace(p, default=0.6) if p.name == "k_clearance" else p for p in DWA_PARAMS),
+        *(dataclasses.replace(p, default=DWA_GLOBAL_DEFAULTS[p.name]) if p.name in DWA_GLOBAL_DEFAULTS else p
+          for p in DWA_PARAMS),
         *GRID_PARAMS,
-        # DWA keeps its own clearance on the roll-outs; the narrow 0.15 m cost margin (D* Lite's
-        # before its follower needed paths down the middle) keeps the global path it follows
-        dataclasses.replace(_DSTAR["inflation_margin"], default=0.15),
+        # D* Lite's 0.35 m, not the 0.15 m it had when dwa_global was written: a path down the
+        # middle of passages keeps DWA's roll-outs and the sonars' arcs off the walls; at 0.15 m
+        # dwa_global hugged the clutter's obstacles, turned on the spot ~60 s an episode and timed
+        # out in 3 family layouts D* Lite reaches (results/baselines/dwa_global_s16/)
+        _DSTAR["inflation_margin"],
         _DSTAR["inflated_cost"],
         _DSTAR["clearance_cost"],
         _DSTAR["expansions_per_cycle"],

@@ -305,3 +305,27 @@ def test_dwa_global_inscribes_within_half_a_cell_and_dstar_lite_within_its_passa
     obs = observe(world, np.array([1.0, 1.0, 0.0]), np.array([3.0, 3.0]), robot, 0.0, 0.1)
     assert DWAGlobal(cell=0.1).required_clearance(obs) == pytest.approx(0.25)
     assert DStarLite(passage_margin=0.03).required_clearance(obs) == pytest.approx(0.23)
+
+
+def test_dwa_global_drives_on_to_a_tenth_of_a_metre_of_the_odometric_goal_and_dwa_stops_at_a_fifth() -> None:
+    # the robot stops on its odometry; the episode accepts 0.3 m of the true goal, so
+    # dwa_global's 0.1 m leaves 0.2 m for the odometry's drift (results/baselines/dwa_global_s16/)
+    world = BoxWorld.room((4.0, 4.0), [])
+    robot = default_robot()
+    goal = np.array([2.15, 2.0])
+    obs = observe(world, np.array([2.0, 2.0, 0.0]), goal, robot, 0.0, 0.1)  # 0.15 m short
+    planner = DWAGlobal()
+    planner.reset(obs, np.random.default_rng(0))
+    assert planner.act(obs).v > 0.0
+    plain = DWA()
+    plain.reset(obs, np.random.default_rng(0))
+    cmd = plain.act(obs)
+    assert (cmd.v, cmd.omega) == (0.0, 0.0)
+    near = observe(world, np.array([2.08, 2.0, 0.0]), goal, robot, 0.1, 0.1)  # 0.07 m short
+    cmd = planner.act(near)
+    assert (cmd.v, cmd.omega) == (0.0, 0.0)
+
+
+def test_dwa_global_keeps_dstar_lites_inflation_margin() -> None:
+    # one fact, one home: a path down the middle of passages (results/baselines/dwa_global_s16/)
+    assert DWAGlobal().settings.inflation_margin == DStarLite().settings.inflation_margin == pytest.approx(0.35)
