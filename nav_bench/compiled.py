@@ -41,14 +41,22 @@ def kernel(**options: Any) -> Callable[[Callable[..., Any]], Any]:
 
 
 @functools.cache
+def numba_version() -> str | None:
+    """The version of the Numba the kernels run on, or None when it cannot be imported (the
+    kernels' NumPy/Python references run then; :func:`load`'s rule)."""
+    try:
+        return str(importlib.import_module("numba").__version__)
+    except ImportError:
+        return None
+
+
+@functools.cache
 def load(module: str) -> ModuleType | None:
     """The kernel module ``module`` (dotted name), or None when Numba cannot be imported: the
     ``fast`` extra is not installed, or this Numba refuses this NumPy (it raises an ImportError
     of its own then, naming no module). Imported on first use only (Numba's import takes
     ~0.3 s), and remembered. An error in the kernel module itself is raised."""
-    try:
-        importlib.import_module("numba")
-    except ImportError:
+    if numba_version() is None:
         return None
     return importlib.import_module(module)
 

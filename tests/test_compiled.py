@@ -10,8 +10,10 @@ from nav_bench import compiled
 @pytest.fixture(autouse=True)
 def _fresh_cache():
     compiled.load.cache_clear()
+    compiled.numba_version.cache_clear()
     yield
     compiled.load.cache_clear()
+    compiled.numba_version.cache_clear()
 
 
 def test_a_kernel_module_is_none_when_numba_cannot_be_imported(monkeypatch, tmp_path):
@@ -19,6 +21,15 @@ def test_a_kernel_module_is_none_when_numba_cannot_be_imported(monkeypatch, tmp_
     monkeypatch.syspath_prepend(str(tmp_path))
     monkeypatch.setitem(sys.modules, "numba", None)  # import numba -> ImportError
     assert compiled.load("needs_numba_mod") is None
+
+
+def test_the_numba_version_is_none_without_numba_and_numbas_own_with_it(monkeypatch):
+    # run.json records it: the kernels change a run's CPU times, not its rows
+    numba = pytest.importorskip("numba")
+    assert compiled.numba_version() == numba.__version__
+    compiled.numba_version.cache_clear()
+    monkeypatch.setitem(sys.modules, "numba", None)
+    assert compiled.numba_version() is None
 
 
 def test_a_numba_that_refuses_this_numpy_counts_as_no_numba(monkeypatch, tmp_path):

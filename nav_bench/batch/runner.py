@@ -29,7 +29,7 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
-from nav_bench import __version__
+from nav_bench import __version__, compiled
 from nav_bench.batch.executors import make_executor
 from nav_bench.batch.store import ResultsStore, describe_os_error, is_disk_full
 from nav_bench.batch.suite import (
@@ -169,6 +169,9 @@ def environment() -> dict[str, Any]:
         "pybullet": _version("pybullet"),
         "numpy": numpy.__version__,
         "numpy_simd": numpy_simd(),
+        # the compiled kernels (the 'fast' extra) give the same rows bit for bit, but not the
+        # same CPU time: recorded so a run's timings can be read (None: NumPy/Python loops)
+        "numba": compiled.numba_version(),
     }
 
 

@@ -21,6 +21,7 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:  # worker processes import tests.helpers.* by name
     sys.path.insert(0, str(ROOT))
 
+from nav_bench import compiled  # noqa: E402
 from nav_bench.batch.runner import numpy_simd, run_suite  # noqa: E402
 from nav_bench.batch.store import ResultsStore, ResultsWarning, check_row  # noqa: E402
 from nav_bench.batch.suite import expand, load_suite  # noqa: E402
@@ -59,6 +60,7 @@ def test_small_suite_real_episodes_valid_rows_reproducible(tmp_path):
     for key in ("python", "pybullet", "numpy", "host", "started", "ended", "nav_bench"):
         assert meta[key], key
     assert meta["numpy_simd"] == numpy_simd()  # the rows' last bits depend on it (README)
+    assert meta["numba"] == compiled.numba_version()  # the CPU times depend on it
     assert meta["suite"]["planners"]["slow"]["params"]["v_max"] == 0.3
 
     # the same suite again, one worker: identical rows but for wall-clock time
