@@ -235,6 +235,9 @@ class WallFollower:
     beside_sonars = math.radians(40.0)  # other-side sonars this far off the heading measure a passage
     edge_slack = 0.08  # m: a front echo this close to the other side's edge range is that side
     max_turn_rate = 2.0  # rad/s: the turn on the spot's cap (11.5 deg a cycle at 10 Hz), see turn_rate
+    # rad/s: the least turn in the dead band, see _band_turn: the distance correction's own turn
+    # at 6 cm of distance error (2.5 k_dist 0.06), 1.7 deg a 10 Hz cycle, a quarter turn in 5 s
+    band_turn_rate = 0.3
 
     def __init__(self, side: int, distance: float, speed: float, front: float,
                  k_dist: float = 2.0, memory_s: float = 3.0, reach: float = 0.6) -> None:
@@ -377,7 +380,26 @@ class WallFollower:
         dist, bearing = near
         correction = max(-self.max_correction, min(self.max_correction, self.k_dist * (dist - target)))
         heading = bearing - self.side * math.pi / 2 + self.side * correction
-        return steer(obs, heading, 0.0 if ahead < front else v)
+        if ahead < front:  # an echo ahead, but farther than the side: the band between the rules
+            return self._band_turn(obs, heading, correction)
+        return steer(obs, heading, v)
+
+    def _band_turn(self, obs: Observation, heading: float, correction: float) -> Command:
+        """The command when an echo ahead is nearer than ``front`` but farther than the followed
+        side (+ ``ahead_slack``): turn on the spot toward ``heading`` (rad, world: the tangent
+        with the distance correction ``correction``, rad), at least at ``band_turn_rate``.
+
+        There the robot used to stand: v = 0, turning only by the distance correction, which is
+        near zero when the side is near its distance (issue 12, the dead band:
+        results/baselines/follow_s13). Turning *away* from the side at ``turn_rate`` instead made
+        new pirouettes at junctions of narrow gaps (follow_s13, candidate A); the slow turn
+        toward the tangent is what let the robot out of them, so it is kept and given a floor.
+        With the robot on ``heading`` already, it turns the way of the correction (away from
+        the side if the correction is zero)."""
+        err = wrap_angle(heading - float(obs.pose[2]))
+        way = math.copysign(1.0, err) if err != 0.0 else (
+            math.copysign(1.0, self.side * correction) if correction != 0.0 else -self.side)
+        return limit(0.0, way * max(2.5 * abs(err), self.band_turn_rate), obs.robot)
 
 
 # ----------------------------------------------------------------------------- echo memory

@@ -253,7 +253,6 @@ DEAD_BAND_OPEN = pytest.mark.xfail(
     "(follow_s13, candidates A and B) were gated and did not ship")
 
 
-@DEAD_BAND_OPEN
 def test_an_echo_ahead_farther_than_the_side_wall_is_not_stood_before() -> None:
     """The dead band (results/baselines/follow_s12): with the followed wall 0.29 m beside and a
     wall across the way 0.42 m ahead (heard 0.41 m ahead, farther than the side + ahead_slack,
@@ -292,7 +291,6 @@ def synthetic_observation(robot: RobotInfo, near: float, ahead: float, other: fl
                        robot=robot, bounds=(-5.0, -5.0, 5.0, 5.0), dt=DT)
 
 
-@DEAD_BAND_OPEN
 @pytest.mark.parametrize("heard_ahead_by", ["both", "followed side", "other side"])
 def test_every_reading_of_side_ahead_and_other_side_gets_a_command_that_moves_the_robot(
         heard_ahead_by: str) -> None:
