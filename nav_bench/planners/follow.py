@@ -216,6 +216,9 @@ class WallFollower:
     cone's edge meeting that side explains is not a wall ahead unless the followed side's front
     sonar hears the way blocked too; it drives on until a wall ahead is as near as its side
     (plus ``ahead_slack``), then turns on the spot. Measured: results/baselines/bugs_s7n/summary.md.
+    Between the two rules (an echo ahead nearer than ``front`` but farther than the side plus
+    ``ahead_slack``) the robot turns on the spot toward the tangent, at least at
+    ``band_turn_rate`` (:meth:`_band_turn`; it used to stand there: results/baselines/follow_s16).
 
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
