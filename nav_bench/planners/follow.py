@@ -9,6 +9,7 @@ Units: metres, seconds, radians.
 from __future__ import annotations
 
 import math
+from collections import deque
 
 import numpy as np
 
@@ -215,6 +216,9 @@ class WallFollower:
     cone's edge meeting that side explains is not a wall ahead unless the followed side's front
     sonar hears the way blocked too; it drives on until a wall ahead is as near as its side
     (plus ``ahead_slack``), then turns on the spot. Measured: results/baselines/bugs_s7n/summary.md.
+    Between the two rules (an echo ahead nearer than ``front`` but farther than the side plus
+    ``ahead_slack``) the robot turns on the spot toward the tangent, at least at
+    ``band_turn_rate`` (:meth:`_band_turn`; it used to stand there: results/baselines/follow_s16).
 
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
@@ -235,6 +239,15 @@ class WallFollower:
     beside_sonars = math.radians(40.0)  # other-side sonars this far off the heading measure a passage
     edge_slack = 0.08  # m: a front echo this close to the other side's edge range is that side
     max_turn_rate = 2.0  # rad/s: the turn on the spot's cap (11.5 deg a cycle at 10 Hz), see turn_rate
+    corner_lead = math.radians(30.0)  # a followed point this far ahead of beside is a corner to round, see _passage_axis
+    sweep_memory_s = 1.0  # s: readings whose cones the gap check (_axis_clear) takes into account
+    sweep_radius = 1.0  # m: only echoes this close to the robot can meet its body swept through a gap
+    sweep_margin = 0.02  # m: clearance beyond the radius the swept body must keep from every cone's arc
+    arc_samples = 7  # bearings sampled across a cone's arc by _axis_clear
+    free_slack = 0.05  # m: a cone is taken as free of surfaces up to its reading less this
+    # rad/s: the least turn in the dead band, see _band_turn: the distance correction's own turn
+    # at 6 cm of distance error (2.5 k_dist 0.06), 1.7 deg a 10 Hz cycle, a quarter turn in 5 s
+    band_turn_rate = 0.3
 
     def __init__(self, side: int, distance: float, speed: float, front: float,
                  k_dist: float = 2.0, memory_s: float = 3.0, reach: float = 0.6) -> None:
@@ -243,6 +256,8 @@ class WallFollower:
         self.side, self.distance, self.speed, self.front = side, distance, speed, front
         self.k_dist, self.reach = k_dist, reach
         self.memory = EchoMemory(memory_s)
+        # the last sweep_memory_s of readings, (t, x, y, yaw, ranges) each, for _axis_clear
+        self._readings: deque[tuple[float, float, float, float, np.ndarray]] = deque()
         self._seen_t = -math.inf  # time of the last cycle remembered
         # nearest()'s answer for the observation it was asked about (TangentBug asks, then its
         # follower's act() asks again in the same cycle); cleared when the memory changes
@@ -263,8 +278,75 @@ class WallFollower:
         in the cycles it does not follow, so the memory has no gap when following starts)."""
         if obs.t > self._seen_t:
             self.memory.add(obs, self._sonar_groups(obs.robot.sonar)[0])
+            self._remember_reading(obs)
             self._seen_t = obs.t
             self._nearest_of = None
+
+    def _remember_reading(self, obs: Observation) -> None:
+        """Keep this cycle's pose and ranges (the cones, not only their axis points) for
+        :meth:`_axis_clear`, and forget those older than ``sweep_memory_s``."""
+        x, y, yaw = (float(q) for q in obs.pose)
+        self._readings.append((float(obs.t), x, y, yaw, np.asarray(obs.ranges, dtype=float)))
+        while self._readings and self._readings[0][0] < obs.t - self.sweep_memory_s:
+            self._readings.popleft()
+
+    def _arc_points(self, obs: Observation) -> np.ndarray:
+        """(M, 2) world points (m) where the remembered echoes' surfaces may be
+        (:meth:`_remember_reading`). A sonar reports the nearest surface anywhere in its cone,
+        so the surface may lie anywhere on the arc at that range about the mount, not only on
+        the axis: ``arc_samples`` bearings across each cone. A sample that lies inside another
+        remembered cone nearer than that reading's range less ``free_slack`` is dropped: that
+        sonar heard nothing there (without this the arcs of a 0.55 m gap's corners fill it:
+        the check never passed at Bug2 office_2). Only echoes whose axis point is within
+        ``sweep_radius`` of the robot are sampled."""
+        s = obs.robot.sonar
+        rows = list(self._readings)
+        poses = np.array([row[1:4] for row in rows])  # (N, 3)
+        ranges = np.stack([row[4] for row in rows])  # (N, K)
+        c, sn = np.cos(poses[:, 2:3]), np.sin(poses[:, 2:3])
+        mount_x = poses[:, 0:1] + c * s.offsets[:, 0] - sn * s.offsets[:, 1]  # (N, K)
+        mount_y = poses[:, 1:2] + sn * s.offsets[:, 0] + c * s.offsets[:, 1]
+        axis = poses[:, 2:3] + s.angles  # (N, K)
+        r = np.where(np.isfinite(ranges), ranges, s.max_range)
+        dx = mount_x + r * np.cos(axis) - float(obs.pose[0])
+        dy = mount_y + r * np.sin(axis) - float(obs.pose[1])
+        keep = (r < s.max_range) & (dx * dx + dy * dy <= self.sweep_radius ** 2)
+        if not keep.any():
+            return np.zeros((0, 2))
+        spread = np.linspace(-s.cone / 2, s.cone / 2, self.arc_samples)
+        bearing = axis[keep][:, None] + spread  # (M, S)
+        px = (mount_x[keep][:, None] + r[keep][:, None] * np.cos(bearing)).ravel()
+        py = (mount_y[keep][:, None] + r[keep][:, None] * np.sin(bearing)).ravel()
+        # every remembered cone, echo or not, clears what lies nearer than its reading
+        ex, ey = px[:, None] - mount_x.ravel(), py[:, None] - mount_y.ravel()  # (P, N K)
+        off_axis = np.abs(np.remainder(np.arctan2(ey, ex) - axis.ravel() + math.pi, 2 * math.pi) - math.pi)
+        seen_free = (off_axis < s.cone / 2) & (ex * ex + ey * ey < (r.ravel() - self.free_slack) ** 2)
+        possible = ~seen_free.any(axis=1)
+        return np.stack([px[possible], py[possible]], axis=1)
+
+    def _axis_clear(self, obs: Observation, heading: float) -> bool:
+        """True if the robot's body, swept from where it stands along ``heading`` (rad, world)
+        for ``front`` m, keeps ``radius + sweep_margin`` m from every point of the remembered
+        echoes' arcs (:meth:`_arc_points`, each echo taken anywhere on its cone's arc). Points
+        behind the robot, or inside its body where it stands (free: the robot is there; the arc
+        crosses it where the cone's nearest ray was not), are left out.
+
+        The gap check of the passage axis: at a gap between two convex corners the axis leads
+        into a 0.5-0.6 m gap that leaves 0.1 m a side, and the other side's point is a guess
+        on one ray of its cone (results/baselines/follow_s13c)."""
+        pts = self._arc_points(obs)
+        if len(pts) == 0:
+            return True
+        d = pts - np.asarray(obs.pose[:2], dtype=float)
+        c, s = math.cos(heading), math.sin(heading)
+        along = d[:, 0] * c + d[:, 1] * s
+        lateral = -d[:, 0] * s + d[:, 1] * c
+        beyond = along - np.clip(along, 0.0, self.front)  # past the swept segment's end, m
+        gap2 = beyond * beyond + lateral * lateral  # squared distance to the swept segment
+        radius = obs.robot.radius
+        inside = d[:, 0] ** 2 + d[:, 1] ** 2 < radius * radius
+        clear = radius + self.sweep_margin
+        return not bool(np.any((along > 0.0) & (gap2 < clear * clear) & ~inside))
 
     def nearest(self, obs: Observation) -> tuple[float, float] | None:
         """(distance m, world bearing rad) of the nearest echo on the followed side within
@@ -300,12 +382,46 @@ class WallFollower:
         echo point lies beside the robot or a little ahead (``-radius < x < front`` in the robot
         frame); ``inf`` if none. With the followed boundary's distance it gives the
         width of the passage the robot is in."""
-        nearest = math.inf
+        echo = self._other_side_echo(obs)
+        return math.inf if echo is None else -self.side * echo[1]
+
+    def _other_side_echo(self, obs: Observation) -> tuple[float, float, float] | None:
+        """The echo :meth:`other_side_clearance` measures, as in :func:`robot_frame_echoes`."""
+        nearest, found = math.inf, None
         for x, y, angle in robot_frame_echoes(obs):
             lateral = -self.side * y
-            if -self.side * angle >= self.beside_sonars and -obs.robot.radius < x < self.front and lateral > 0.0:
-                nearest = min(nearest, lateral)
-        return nearest
+            if -self.side * angle >= self.beside_sonars and -obs.robot.radius < x < self.front and 0.0 < lateral < nearest:
+                nearest, found = lateral, (x, y, angle)
+        return found
+
+    def _other_side_point(self, obs: Observation) -> tuple[float, float]:
+        """Robot-frame point (x, y) m of the other side's echo (:meth:`_other_side_echo`) placed
+        on its cone's ray nearest to the perpendicular of the heading, not on its axis: a
+        sonar's nearest return from a wall parallel to the heading comes along that ray, so
+        beside such a wall the point is on the wall, where the axis point of a 45 deg sonar
+        sits 0.2 m too far ahead."""
+        x, y, angle = self._other_side_echo(obs)
+        s = obs.robot.sonar
+        k = int(np.argmin(np.abs(s.angles - angle)))
+        mx, my = float(s.offsets[k, 0]), float(s.offsets[k, 1])
+        r = math.hypot(x - mx, y - my)
+        ray = angle + max(-s.cone / 2, min(s.cone / 2, -self.side * math.pi / 2 - angle))
+        return mx + r * math.cos(ray), my + r * math.sin(ray)
+
+    def _passage_axis(self, obs: Observation, near: tuple[float, float]) -> float:
+        """World heading (rad) along a narrow passage between the followed boundary's nearest
+        point and the other side's echo (:meth:`_other_side_point`): at right angles to the line
+        joining them, the followed point on ``side``. Beside two parallel walls it is the
+        followed wall's tangent. At a gap whose sides are two convex corners, the followed
+        corner's tangent points across the gap, at the far corner, and the robot turned away
+        from the gap (class A, results/baselines/follow_s13); the axis leads through it."""
+        x, y, yaw = (float(q) for q in obs.pose)
+        dist, bearing = near
+        px, py = self._other_side_point(obs)
+        c, s = math.cos(yaw), math.sin(yaw)
+        other_x, other_y = x + c * px - s * py, y + s * px + c * py
+        near_x, near_y = x + dist * math.cos(bearing), y + dist * math.sin(bearing)
+        return math.atan2(near_y - other_y, near_x - other_x) - self.side * math.pi / 2
 
     def _edge_echo_explained(self, obs: Observation, other: float) -> np.ndarray:
         """(K,) bool: sonars on the other side whose reading is within ``edge_slack`` of the
@@ -376,8 +492,35 @@ class WallFollower:
             return limit(0.6 * v, self.side * 0.6 * v / max(self.distance, 1e-3), robot)
         dist, bearing = near
         correction = max(-self.max_correction, min(self.max_correction, self.k_dist * (dist - target)))
-        heading = bearing - self.side * math.pi / 2 + self.side * correction
-        return steer(obs, heading, 0.0 if ahead < front else v)
+        corner_ahead = self.side * wrap_angle(bearing - float(obs.pose[2])) < math.pi / 2 - self.corner_lead
+        tangent = bearing - self.side * math.pi / 2
+        if corner_ahead and math.isfinite(other):
+            # a gap between two corners: along its axis if the body swept that way clears
+            # wherever the echoes may be, else round the followed corner as before
+            axis = self._passage_axis(obs, near)
+            if self._axis_clear(obs, axis):
+                tangent = axis
+        heading = tangent + self.side * correction
+        if ahead < front:  # an echo ahead, but farther than the side: the band between the rules
+            return self._band_turn(obs, heading, correction)
+        return steer(obs, heading, v)
+
+    def _band_turn(self, obs: Observation, heading: float, correction: float) -> Command:
+        """The command when an echo ahead is nearer than ``front`` but farther than the followed
+        side (+ ``ahead_slack``): turn on the spot toward ``heading`` (rad, world: the tangent
+        with the distance correction ``correction``, rad), at least at ``band_turn_rate``.
+
+        There the robot used to stand: v = 0, turning only by the distance correction, which is
+        near zero when the side is near its distance (issue 12, the dead band:
+        results/baselines/follow_s13). Turning *away* from the side at ``turn_rate`` instead made
+        new pirouettes at junctions of narrow gaps (follow_s13, candidate A); the slow turn
+        toward the tangent is what let the robot out of them, so it is kept and given a floor.
+        With the robot on ``heading`` already, it turns the way of the correction (away from
+        the side if the correction is zero)."""
+        err = wrap_angle(heading - float(obs.pose[2]))
+        way = math.copysign(1.0, err) if err != 0.0 else (
+            math.copysign(1.0, self.side * correction) if correction != 0.0 else -self.side)
+        return limit(0.0, way * max(2.5 * abs(err), self.band_turn_rate), obs.robot)
 
 
 # ----------------------------------------------------------------------------- echo memory

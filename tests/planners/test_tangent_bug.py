@@ -300,7 +300,9 @@ def replay_commands(name: str, planner: Planner) -> tuple[np.ndarray, np.ndarray
     whenever issue 12's wall follower changed their commands (s6follow, then the seventh
     session's narrow-passage mode, which changed the TangentBug labyrinth and 40 m clutter
     ones), and the four TangentBug ones when the blocking obstacle's interval came to end where
-    the range function jumps (s12tb: the very_complex one no longer ends unreachable): ``--record DIR
+    the range function jumps (s12tb: the very_complex one no longer ends unreachable), and the
+    TangentBug concave_trap and labyrinth ones and the Bug2 one when the follower's dead band
+    came to turn at least at ``band_turn_rate`` (follow_s16: one command each): ``--record DIR
     --planners tangent_bug --worlds clutter_40m,concave_trap,labyrinth,very_complex --time-s
     60`` and ``--planners bug2 --worlds very_complex --time-s 40``)."""
     with np.load(REPLAY / f"{name}.npz") as stored:

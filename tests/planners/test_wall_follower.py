@@ -247,20 +247,45 @@ def test_a_follower_at_a_junction_of_narrow_gaps_stops_its_turn_on_a_way_out() -
     assert math.degrees(turned) < 1500.0  # it turns 2833 deg
 
 
+# ----------------------------------------------------------------------------- issue 12: class A, the gap check
+def corner_gap_follower(gap: float) -> tuple[WallFollower, Observation]:
+    """A follower (wall on its right) driven north for 0.4 m up to the mouth of a ``gap`` m gap
+    between two boxes' convex corners, (1.5, 2.0) and (1.5 + gap, 2.0), centred on the gap
+    (the diffbot's 0.18 m radius), and its last observation, 0.3 m short of the gap."""
+    world = BoxWorld.room((4.0, 4.0), [(0.5, 2.0, 1.5, 3.0), (1.5 + gap, 2.0, 3.0, 3.0)])
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    for i, y in enumerate(np.linspace(1.3, 1.7, 5)):
+        obs = observe(world, np.array([1.5 + gap / 2, y, math.pi / 2]), np.array([100.0, 100.0]),
+                      DIFFBOT_LIKE, i * DT, DT, rays=7)
+        follower.observe(obs)
+    return follower, obs
+
+
+def test_the_body_swept_along_a_corner_gaps_axis_clears_where_the_echoes_may_be() -> None:
+    """A 0.6 m gap leaves the 0.36 m body 0.12 m a side: swept north along the gap's axis it
+    clears every remembered echo taken anywhere on its cone's arc (less what other cones saw
+    free), so the follower may steer along the axis (candidate C, results/baselines/follow_s13c)."""
+    follower, obs = corner_gap_follower(0.6)
+    assert follower._axis_clear(obs, math.pi / 2)
+
+
+@pytest.mark.parametrize(("gap", "tilt_deg"), [(0.6, 20.0), (0.6, -20.0), (0.4, 0.0)])
+def test_the_body_swept_into_a_corner_gap_that_grazes_a_side_does_not_clear(gap: float, tilt_deg: float) -> None:
+    """Swept 20 deg off the axis of the 0.6 m gap, the body meets a corner; along the axis of a
+    0.4 m gap it keeps 2 cm a side, within the cones' uncertainty: the follower keeps rounding
+    the followed corner, as main does."""
+    follower, obs = corner_gap_follower(gap)
+    assert not follower._axis_clear(obs, math.pi / 2 + math.radians(tilt_deg))
+
+
 # ----------------------------------------------------------------------------- issue 12: the dead band
-DEAD_BAND_OPEN = pytest.mark.xfail(
-    strict=True, reason="issue 12 dead band, open: main's follower stands; driving through (follow_s12) and turning "
-    "(follow_s13, candidates A and B) were gated and did not ship")
-
-
-@DEAD_BAND_OPEN
 def test_an_echo_ahead_farther_than_the_side_wall_is_not_stood_before() -> None:
     """The dead band (results/baselines/follow_s12): with the followed wall 0.29 m beside and a
     wall across the way 0.42 m ahead (heard 0.41 m ahead, farther than the side + ahead_slack,
-    nearer than ``front``), main's follower neither turns nor drives: v = 0 on the tangent
+    nearer than ``front``), the follower used to neither turn nor drive: v = 0 on the tangent
     (|omega| 0.21 rad/s from the distance correction), where the simulated robot stood for a
-    third of office_11's last 30 s. Driving on (follow_s12: 9cdeae7, e53db44) and turning on
-    the spot (follow_s13: candidate A) pass this test; none met the gate's ship criterion."""
+    third of office_11's last 30 s. It now turns toward the corrected tangent at least at
+    ``band_turn_rate`` (results/baselines/follow_s16)."""
     world = BoxWorld.room((6.0, 3.0), [(2.42, 0.0, 2.62, 3.0)])
     follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
     robot = default_robot()
@@ -292,17 +317,15 @@ def synthetic_observation(robot: RobotInfo, near: float, ahead: float, other: fl
                        robot=robot, bounds=(-5.0, -5.0, 5.0, 5.0), dt=DT)
 
 
-@DEAD_BAND_OPEN
 @pytest.mark.parametrize("heard_ahead_by", ["both", "followed side", "other side"])
 def test_every_reading_of_side_ahead_and_other_side_gets_a_command_that_moves_the_robot(
         heard_ahead_by: str) -> None:
     """No dead band: over a grid of the distances (from the centre) of the followed wall (near),
     an echo ahead and the other side's wall, held for two cycles, every command turns
-    (|omega| >= 0.3 rad/s) or drives (v >= 0.01 m/s); the robot never stands. Main's follower
-    stands (v = 0, the heading on the tangent) wherever the echo ahead is nearer than ``front``
-    but farther than the side + ahead_slack: 7 of these 1960 cells in each case. A follower
-    with one rule for turning and driving passes it (candidates A and B of
-    results/baselines/follow_s13, whose section 3 has the proof)."""
+    (|omega| >= 0.3 rad/s) or drives (v >= 0.01 m/s); the robot never stands. The follower
+    stood (v = 0, the heading on the tangent) wherever the echo ahead is nearer than ``front``
+    but farther than the side + ahead_slack: 7 of these 1960 cells in each case
+    (results/baselines/follow_s13); there it now turns at least at ``band_turn_rate``."""
     robot = DIFFBOT_LIKE
     front = {"both": (-15.0, 15.0), "followed side": (-15.0,), "other side": (15.0,)}[heard_ahead_by]
     still = []
