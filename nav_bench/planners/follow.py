@@ -132,7 +132,10 @@ def limit(v: float, omega: float, robot: RobotInfo) -> Command:
 STOP = Command(0.0, 0.0)
 
 
-def steer(obs: Observation, heading: float, v_des: float, *, k_omega: float = 2.5,
+K_OMEGA = 2.5  # 1/s: turn rate per radian of heading error, steer's and every turn toward a heading here
+
+
+def steer(obs: Observation, heading: float, v_des: float, *, k_omega: float = K_OMEGA,
           turn_in_place: float = math.radians(60.0)) -> Command:
     """Turn toward ``heading`` (rad, world) while driving at up to ``v_des`` m/s.
 
@@ -171,7 +174,7 @@ def pure_pursuit(obs: Observation, path: np.ndarray, lookahead: float, v_des: fl
         return STOP
     alpha = wrap_angle(math.atan2(target[1] - xy[1], target[0] - xy[0]) - float(obs.pose[2]))
     if abs(alpha) > turn_in_place:
-        return limit(0.0, 2.5 * alpha, obs.robot)
+        return limit(0.0, K_OMEGA * alpha, obs.robot)
     v = arrival_speed(float(np.hypot(*(path[-1] - xy))), v_des)
     kappa = 2.0 * math.sin(alpha) / max(dist, 1e-6)
     if abs(v * kappa) > obs.robot.omega_max:
@@ -246,7 +249,7 @@ class WallFollower:
     arc_samples = 7  # bearings sampled across a cone's arc by _axis_clear
     free_slack = 0.05  # m: a cone is taken as free of surfaces up to its reading less this
     # rad/s: the least turn in the dead band, see _band_turn: the distance correction's own turn
-    # at 6 cm of distance error (2.5 k_dist 0.06), 1.7 deg a 10 Hz cycle, a quarter turn in 5 s
+    # at 6 cm of distance error (K_OMEGA k_dist 0.06), 1.7 deg a 10 Hz cycle, a quarter turn in 5 s
     band_turn_rate = 0.3
 
     def __init__(self, side: int, distance: float, speed: float, front: float,
@@ -520,7 +523,7 @@ class WallFollower:
         err = wrap_angle(heading - float(obs.pose[2]))
         way = math.copysign(1.0, err) if err != 0.0 else (
             math.copysign(1.0, self.side * correction) if correction != 0.0 else -self.side)
-        return limit(0.0, way * max(2.5 * abs(err), self.band_turn_rate), obs.robot)
+        return limit(0.0, way * max(K_OMEGA * abs(err), self.band_turn_rate), obs.robot)
 
 
 # ----------------------------------------------------------------------------- echo memory
