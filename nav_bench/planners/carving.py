@@ -110,10 +110,14 @@ class SeeThroughCarving:
     * ``body_clear`` (m, 0: always): the parts under the body are carved only while no sonar
       reads an echo nearer than this. Pressed on an obstacle the wheels slip, odometry drives
       on into it and the body would carve the obstacle itself; an echo that near is the sign.
+    * ``body_memory_s`` (s, None: ``memory_s``): how long the body's carving lasts. Where the
+      body stood is known only by odometry, and pressed on an obstacle odometry drifts into it,
+      so its carving may be wrong where a view's is not.
     """
 
     def __init__(self, frame: GridFrame, pose: np.ndarray, kernel: str = "auto",
-                 memory_s: float = CARVE_MEMORY_S, undo: str = "off", body_clear: float = 0.0) -> None:
+                 memory_s: float = CARVE_MEMORY_S, undo: str = "off", body_clear: float = 0.0,
+                 body_memory_s: float | None = None) -> None:
         if undo not in UNDO_MODES:
             raise InputError(f"carving undo must be one of {list(UNDO_MODES)}, got {undo!r}")
         self.compiled = compiled.use_kernels(kernel, load_kernels, "carving")
@@ -121,6 +125,9 @@ class SeeThroughCarving:
             _load_compiled_code()
         self.frame = frame
         self.memory_s, self.undo, self.body_clear = memory_s, undo, body_clear
+        # s: the body's carving is recorded this much earlier than it happens, so that it
+        # expires after body_memory_s (0: recorded at the reading's time, as a view's)
+        self.body_lag = 0.0 if body_memory_s is None else max(memory_s - body_memory_s, 0.0)
         parts = (*frame.shape, PARTS)
         self.carved_t = np.full(parts, -INF, dtype=np.float32)
         self.seen_t = np.full(parts, -INF, dtype=np.float32)
@@ -178,7 +185,8 @@ class SeeThroughCarving:
         kept_xy = np.empty((m * PARTS, 2))
         x, y, yaw = pose_floats(obs.pose)
         reading = np.array([x, y, yaw, math.cos(yaw), math.sin(yaw), obs.t, _as_compared(obs.t - CARVE_MEMORY_S),
-                            _as_compared(obs.t - self.memory_s), float(body), float(UNDO_MODES.index(self.undo))])
+                            _as_compared(obs.t - self.memory_s), float(body), float(UNDO_MODES.index(self.undo)),
+                            obs.t - self.body_lag, _as_compared(obs.t - self.body_lag)])
         offsets, angles, setup = self._setup(obs.robot)
         k = kernels.carve_cells(self.carved_t, self.seen_t, self.seen_view, self.noted, box[0], box[2],
                                 occupied_box, rows, cols, _part_offsets(float(self.frame.cell)), offsets, angles,
@@ -260,7 +268,8 @@ class SeeThroughCarving:
         views[seen] = self.view
         if body:
             pa = parts[act]
-            times[np.hypot(pa[..., 0] - x, pa[..., 1] - y) <= obs.robot.radius] = obs.t
+            body_t = obs.t - self.body_lag  # never earlier than the part's record (a view's carving lasts)
+            times[(np.hypot(pa[..., 0] - x, pa[..., 1] - y) <= obs.robot.radius) & (times < body_t)] = body_t
         carved_rows[at], seen_rows[at], view_rows[at] = times, seen_at, views
         return seen_all
 

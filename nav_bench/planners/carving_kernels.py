@@ -105,7 +105,8 @@ def carve_cells(carved_t: np.ndarray, seen_t: np.ndarray, seen_view: np.ndarray,
     centre-to-corner, reach: centre to the farthest part centre, the robot's radius, the reach of
     the under-the-body cell test, the axis tolerances across and along, the undo's reach), m and
     rad. ``reading`` = (x, y, yaw, cos yaw, sin yaw, t, the confirmation's limit, the memory's
-    limit, 1.0 if the body carves, the undo mode: its index in ``carving.UNDO_MODES``), m, rad,
+    limit, 1.0 if the body carves, the undo mode: its index in ``carving.UNDO_MODES``, the time
+    the body's carving is recorded at, that time as the records are compared with it), m, rad,
     s: the limits as the records are compared with them; ``view`` its view."""
     _forget(carved_t, seen_t, seen_view, noted, a0, b0, occupied_box)
     mounts = _mounts(reading, sonar_offsets, sonar_angles, ranges, setup[3])
@@ -130,7 +131,7 @@ def carve_cells(carved_t: np.ndarray, seen_t: np.ndarray, seen_view: np.ndarray,
         any_echoed = _axis_parts(parts[m], mounts, setup, echoed) if axis else False
         if any_seen or any_echoed or (body and math.hypot(cx - x, cy - y) <= under_reach):
             _note_cell(carved_t[r, c], seen_t[r, c], seen_view[r, c], parts[m], seen, echoed, x, y,
-                       radius if body else -1.0, view, t, limit)
+                       radius if body else -1.0, view, t, limit, reading[10], reading[11])
     if unexplained:
         _undo_unexplained(carved_t, rows, cols, parts, seen_all, mounts, setup, keep_limit)
     k = 0
@@ -237,12 +238,13 @@ def _undo_unexplained(carved_t: np.ndarray, rows: np.ndarray, cols: np.ndarray, 
 @_kernel()
 def _note_cell(carved: np.ndarray, seen_at: np.ndarray, views: np.ndarray, pts: np.ndarray,
                seen: np.ndarray, echoed: np.ndarray, x: float, y: float, radius: float, view: int,
-               t: float, limit: float) -> None:
+               t: float, limit: float, body_t: float, body_cmp: float) -> None:
     """``_note`` for one cell's records (PARTS,): a part seen through is carved if a reading from
     another view saw through it since ``limit``; it is then seen at ``t`` from ``view``; a part
     on an echo's axis point (``echoed``) and not seen through is kept again (``-inf``); a part
-    within ``radius`` of the body's centre (``x``, ``y``) is carved (``x``, ``y``, ``radius`` m,
-    negative: no body carving; ``t``, ``limit`` s)."""
+    within ``radius`` of the body's centre (``x``, ``y``) is carved at ``body_t`` if its record
+    is earlier (compared with ``body_cmp``) (``x``, ``y``, ``radius`` m, negative: no body
+    carving; ``t``, ``limit``, ``body_t``, ``body_cmp`` s)."""
     for p in range(carved.shape[0]):
         if seen[p]:
             if views[p] >= 0 and views[p] != view and seen_at[p] >= limit:
@@ -251,8 +253,8 @@ def _note_cell(carved: np.ndarray, seen_at: np.ndarray, views: np.ndarray, pts: 
             views[p] = view
         elif echoed[p]:
             carved[p] = -np.inf
-        if math.hypot(pts[p, 0] - x, pts[p, 1] - y) <= radius:
-            carved[p] = t
+        if math.hypot(pts[p, 0] - x, pts[p, 1] - y) <= radius and carved[p] < body_cmp:
+            carved[p] = body_t
 
 
 # -- the clearance against the kept parts (footprint.PointObstacles) -----------------------------

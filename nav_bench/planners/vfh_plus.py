@@ -544,6 +544,8 @@ class VFHPlus(Planner):
               "undo", choices=UNDO_MODES),
         Param("carve_body_clear", 0.0, "m", "the parts under the body are carved only while no sonar reads an "
               "echo nearer than this (0: always; SeeThroughCarving body_clear)", minimum=0.0),
+        Param("carve_body_memory_s", 3.0, "s", "how long the body's carving of the parts under it lasts (at most "
+              "carve_memory_s; SeeThroughCarving body_memory_s)", minimum=0.0),
     )
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
@@ -552,7 +554,8 @@ class VFHPlus(Planner):
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
         self.frame = GridFrame.from_bounds(self.grid.bounds, self.grid.cell)
         self.carving = SeeThroughCarving(self.frame, obs.pose, memory_s=p.carve_memory_s,
-                                         undo=p.carve_undo, body_clear=p.carve_body_clear)
+                                         undo=p.carve_undo, body_clear=p.carve_body_clear,
+                                         body_memory_s=p.carve_body_memory_s)
         if self.carving.compiled:
             _load_compiled_code()
         self.n = max(4, round(360.0 / p.sector_deg))

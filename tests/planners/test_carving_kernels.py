@@ -41,9 +41,9 @@ def random_ranges(rng: np.random.Generator, n: int, max_range: float) -> np.ndar
     return ranges
 
 
-# (memory_s, undo, body_clear): main's carving, and VFH+'s other settings
-SETTINGS = [(3.0, "off", 0.0), (10.0, "axis", 0.0), (10.0, "off", 0.3), (7.5, "axis", 0.4),
-            (10.0, "unexplained", 0.0), (10.0, "unexplained", 0.3)]
+# (memory_s, undo, body_clear, body_memory_s): main's carving, and VFH+'s other settings
+SETTINGS = [(3.0, "off", 0.0, None), (10.0, "axis", 0.0, None), (10.0, "off", 0.3, 3.0), (7.5, "axis", 0.4, None),
+            (10.0, "unexplained", 0.0, None), (10.0, "unexplained", 0.3, 2.5), (10.0, "unexplained", 0.0, 3.0)]
 
 
 @needs_numba
@@ -55,9 +55,9 @@ def test_the_compiled_carving_is_the_numpy_carving_bit_for_bit(seed: int, settin
     cell = float(rng.choice([0.1, 0.05, 0.08]))
     frame = GridFrame(float(rng.uniform(-2.0, 0.0)), float(rng.uniform(-2.0, 0.0)), cell, 50, 60)
     pose = np.array([frame.xmin + 30 * cell, frame.ymin + 25 * cell, 0.0])
-    memory_s, undo, clear = settings
-    ref = SeeThroughCarving(frame, pose, "numpy", memory_s=memory_s, undo=undo, body_clear=clear)
-    fast = SeeThroughCarving(frame, pose, "numba", memory_s=memory_s, undo=undo, body_clear=clear)
+    memory_s, undo, clear, body_s = settings
+    kw = {"memory_s": memory_s, "undo": undo, "body_clear": clear, "body_memory_s": body_s}
+    ref, fast = SeeThroughCarving(frame, pose, "numpy", **kw), SeeThroughCarving(frame, pose, "numba", **kw)
     assert not ref.compiled and fast.compiled
     occupied = rng.random(frame.shape) < 0.2
     t, carved_seen, undone = 0.0, 0, 0
