@@ -1,5 +1,5 @@
-"""gap_undo_view.py OUT.png: the hand-built 0.55 m gap (tests/planners/test_carving_undo.py)
-after the carving opened it and the robot faced it again for 1 s, with the three undo modes
+"""gap_undo_view.py OUT.png: the hand-built 0.55 m gap of tests/planners/test_carving_undo.py
+(run with candidate_D.patch applied, which adds that test and the undo modes) after the carving opened it and the robot faced it again for 1 s, with the three undo modes
 (10 s memory): every part of the occupied cells near the gap, kept (black) or carved (light
 grey), the true boxes (outlined), the robot (circle) and the way-on sectors' H^p."""
 import sys
@@ -9,9 +9,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from tests.planners.test_carving_undo import TOWARD_GAP, open_the_gap_then_face_it
 
 from nav_bench.planners.footprint import cell_parts
-from tests.planners.test_carving_undo import TOWARD_GAP, open_the_gap_then_face_it
 
 BOXES = [(2.0, 0.5, 2.3, 1.225), (2.0, 1.775, 2.3, 2.5)]
 
