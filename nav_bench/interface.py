@@ -66,6 +66,14 @@ class SonarInfo:
     min_range: float
     max_range: float
 
+    def mounts(self, x: Any, y: Any, cos_yaw: Any, sin_yaw: Any) -> tuple[np.ndarray, np.ndarray]:
+        """World-frame x and y of the mounts, m, for a robot at (``x``, ``y``) whose heading has
+        cosine ``cos_yaw`` and sine ``sin_yaw``: floats give (K,) arrays; (N, 1) columns of N
+        poses give (N, K). The caller computes the cosine and sine (``math`` or NumPy: they may
+        differ in the last bit, and a caller's rows depend on its choice)."""
+        ox, oy = self.offsets[:, 0], self.offsets[:, 1]
+        return x + cos_yaw * ox - sin_yaw * oy, y + sin_yaw * ox + cos_yaw * oy
+
 
 @dataclass(frozen=True)
 class RobotInfo:
@@ -119,8 +127,7 @@ def _sonar_hits(obs: Observation) -> np.ndarray:
     x, y, yaw = obs.pose
     s = obs.robot.sonar
     c, si = math.cos(yaw), math.sin(yaw)
-    ox = x + c * s.offsets[:, 0] - si * s.offsets[:, 1]
-    oy = y + si * s.offsets[:, 0] + c * s.offsets[:, 1]
+    ox, oy = s.mounts(x, y, c, si)
     ang = yaw + s.angles
     hits = np.empty((len(ang), 2))  # the columns as np.stack would lay them out
     hits[:, 0] = ox + obs.ranges * np.cos(ang)

@@ -307,8 +307,7 @@ class WallFollower:
         poses = np.array([row[1:4] for row in rows])  # (N, 3)
         ranges = np.stack([row[4] for row in rows])  # (N, K)
         c, sn = np.cos(poses[:, 2:3]), np.sin(poses[:, 2:3])
-        mount_x = poses[:, 0:1] + c * s.offsets[:, 0] - sn * s.offsets[:, 1]  # (N, K)
-        mount_y = poses[:, 1:2] + sn * s.offsets[:, 0] + c * s.offsets[:, 1]
+        mount_x, mount_y = s.mounts(poses[:, 0:1], poses[:, 1:2], c, sn)  # (N, K)
         axis = poses[:, 2:3] + s.angles  # (N, K)
         r = np.where(np.isfinite(ranges), ranges, s.max_range)
         dx = mount_x + r * np.cos(axis) - float(obs.pose[0])

@@ -257,8 +257,7 @@ class _Mounts:
         x, y, yaw = pose_floats(pose)
         cy, sy = math.cos(yaw), math.sin(yaw)
         r = np.where(np.isfinite(ranges), np.minimum(ranges, sonar.max_range), sonar.max_range)
-        mx = x + cy * sonar.offsets[:, 0] - sy * sonar.offsets[:, 1]
-        my = y + sy * sonar.offsets[:, 0] + cy * sonar.offsets[:, 1]
+        mx, my = sonar.mounts(x, y, cy, sy)
         return _Mounts(x, y, yaw, r, mx, my)
 
     def see_through(self, qx: np.ndarray, qy: np.ndarray, part: float, sonar: SonarInfo) -> np.ndarray:

@@ -100,8 +100,7 @@ def sense(world: BoxWorld, pose: np.ndarray, robot: RobotInfo, rays: int = 5,
     s = robot.sonar
     x, y, yaw = pose
     c, si = math.cos(yaw), math.sin(yaw)
-    ox = x + c * s.offsets[:, 0] - si * s.offsets[:, 1]
-    oy = y + si * s.offsets[:, 0] + c * s.offsets[:, 1]
+    ox, oy = s.mounts(x, y, c, si)
     spread = np.linspace(-s.cone / 2, s.cone / 2, rays)
     ang = (yaw + s.angles)[:, None] + spread[None, :]  # (K, rays)
     origins = np.repeat(np.stack([ox, oy], axis=1), rays, axis=0)
