@@ -22,7 +22,14 @@ from typing import Any
 
 from nav_bench.errors import InputError
 
-KERNEL_CHOICES = ("auto", "numpy", "numba")  # a kernel choice: auto, the NumPy reference, compiled
+
+def kernel_choices(reference: str = "numpy") -> tuple[str, str, str]:
+    """The choices of a kernel setting: ``auto`` (compiled when Numba loads), ``reference`` (the
+    uncompiled code: "numpy", or "python" for D* Lite's search) and ``numba``."""
+    return ("auto", reference, "numba")
+
+
+KERNEL_CHOICES = kernel_choices()  # the occupancy grid's and the carving's
 
 
 def kernel(**options: Any) -> Callable[[Callable[..., Any]], Any]:
@@ -69,7 +76,7 @@ def use_kernels(choice: str, kernels: Callable[[], ModuleType | None], what: str
     the ``fast`` extra without Numba), ``auto`` when they load. ``kernels``: the caller's loader
     of its kernel module (a :func:`load`; None without Numba). ``what`` names the object in the
     errors ("occupancy grid", "carving", "search")."""
-    choices = ("auto", reference, "numba")
+    choices = kernel_choices(reference)
     if choice not in choices:
         raise InputError(f"{what} kernel must be one of {list(choices)}, got {choice!r}")
     if choice == reference:

@@ -619,7 +619,7 @@ class DStarLiteSearch:
         return descend(self.graph.cost, self.g, self.graph.width, self.start, self.goal,
                        max_len or len(self.g), _NO_ROWS if index is None else index, after, self._scratch)
 
-SEARCH_KERNELS = ("auto", "python", "numba")  # choices of DStarLite's search_kernel
+SEARCH_KERNELS = compiled.kernel_choices("python")  # choices of DStarLite's search_kernel
 
 
 def load_kernels() -> ModuleType | None:
