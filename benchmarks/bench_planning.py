@@ -34,6 +34,7 @@ import os
 import sys
 import time
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -77,17 +78,30 @@ class CpuTimed:
         agent.act = timed_act  # type: ignore[method-assign]
 
 
-def plan_ms(world: WorldSpec, planner: str, time_s: float,
-            seed: int) -> tuple[np.ndarray, np.ndarray, str]:
-    """Per-cycle planning times (ms) of one episode, wall clock (the trace's ``plan_s``) and
-    CPU, and its outcome."""
+class EpisodeTimes(NamedTuple):
+    """One episode's per-cycle planning times and its outcome.
+
+    Attributes:
+        wall_ms: (N,) wall-clock ms per cycle (the trace's ``plan_s``, finite ones only).
+        cpu_ms: (M,) CPU ms per call of ``act``.
+        outcome: the row's outcome, e.g. ``reached``.
+    """
+
+    wall_ms: np.ndarray
+    cpu_ms: np.ndarray
+    outcome: str
+
+
+def plan_ms(world: WorldSpec, planner: str, time_s: float, seed: int) -> EpisodeTimes:
+    """Per-cycle planning times (ms) of one episode, wall clock and CPU, and its outcome."""
     spec = parse_planner_arg(planner)
     agent = make_planner(spec)
     timer = CpuTimed(agent)
     result = run_episode(world, spec, seed=seed, settings=EpisodeSettings(time_s=time_s),
                          planner_instance=agent)
     wall = 1e3 * np.asarray(result.trace.plan_s, dtype=float)
-    return wall[np.isfinite(wall)], 1e3 * np.asarray(timer.cpu_s), str(result.row.outcome)
+    return EpisodeTimes(wall[np.isfinite(wall)], 1e3 * np.asarray(timer.cpu_s),
+                        str(result.row.outcome))
 
 
 def main() -> None:
@@ -119,22 +133,23 @@ def main() -> None:
         f"{'median':>8s} {'p99':>8s} {'max':>8s}   "))
     verdict = {}
     t0 = time.perf_counter()
-    pooled: dict[tuple[str, str], list[tuple[np.ndarray, np.ndarray, str]]] = {}
+    pooled: dict[tuple[str, str], list[EpisodeTimes]] = {}
     for _ in range(args.rounds):
         for planner in planners:
             for world in worlds:
                 pooled.setdefault((planner, world.name), []).append(
                     plan_ms(world, planner, args.time_s, args.seed))
     for (planner, world_name), runs in pooled.items():
-        cpu, wall = np.concatenate([r[1] for r in runs]), np.concatenate([r[0] for r in runs])
-        outcome = runs[0][2]
+        cpu = np.concatenate([r.cpu_ms for r in runs])
+        wall = np.concatenate([r.wall_ms for r in runs])
+        outcome = runs[0].outcome
         stats = [(float(np.median(ms)), float(np.percentile(ms, 99)), float(ms.max()))
                  for ms in (cpu, wall)]
         print(f"{planner:12s} {world_name:14s} {outcome:8s} {len(cpu):6d} " + "".join(
             f"{a:8.3f} {b:8.3f} {c:8.3f}   " for a, b, c in stats), flush=True)
         if len(runs) > 1:
             print(f"{'':37s} CPU median per round: "
-                  + " ".join(f"{np.median(r[1]):.3f}" for r in runs))
+                  + " ".join(f"{np.median(r.cpu_ms):.3f}" for r in runs))
         if world_name == BIG:
             verdict[planner] = stats
     print(f"\non {BIG} (400 x 400 cells), target median < {TARGET_MEDIAN_MS:g} ms and "
