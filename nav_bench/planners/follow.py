@@ -230,6 +230,9 @@ class WallFollower:
     Between the two rules (an echo ahead nearer than ``front`` but farther than the side plus
     ``ahead_slack``) the robot turns on the spot toward the tangent, at least at
     ``band_turn_rate`` (:meth:`_band_turn`; it used to stand there: results/baselines/follow_s16).
+    At a junction of gaps it cannot show clear the robot can turn full circles away from its
+    side for good; ``circling`` (:class:`CirclingDetector`, updated by :meth:`act`) says so, and
+    the planner decides what to do (results/baselines/follow_s17).
 
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
