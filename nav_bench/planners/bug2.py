@@ -125,6 +125,7 @@ class Bug2(Planner):
         self._hits: list[list[float]] = []
         self._swept = 0.0  # angle (rad) the path since the hit point swept round the goal
         self._reacquire = False  # a lap left the goal outside: turn the next hit obstacle to the side
+        self._circled = False
         self._turn_in: float | None = None  # heading (rad) at that hit while turning it to the side
 
     # -- m-line geometry -------------------------------------------------------------------------
@@ -185,7 +186,13 @@ class Bug2(Planner):
                 cmd = steer(obs, heading, arrival_speed(to_goal, v))
             else:
                 cmd = self.follower.act(obs)
-                if self.follower.circling.fired:  # issue 12: see the module docstring
+                if self.follower.circling.fired and not self._circled:
+                    self._circled = True
+                    self.follower.circling.clear()
+                    self.mode, self._reacquire, self._turn_in = GO, True, None
+                    self.loop.disarm()
+                    cmd = steer(obs, heading, arrival_speed(to_goal, v))
+                elif self.follower.circling.fired:  # issue 12: see the module docstring
                     cmd = self._unreachable(obs, xy, "circling")
         self._prev_xy = xy.copy()
         return cmd

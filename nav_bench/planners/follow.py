@@ -662,6 +662,11 @@ class CirclingDetector:
         self._yaw = 0.0  # heading of the last cycle, rad
         self.fired = False  # the last update's answer
 
+    def clear(self) -> None:
+        """Start the watch again at the next cycle (the planner acted on what it was told)."""
+        self._cycles.clear()
+        self.fired = False
+
     def update(self, t: float, x: float, y: float, yaw: float) -> bool:
         """Feed a follower cycle's time (s), position (m) and heading (rad); True when circling."""
         if not self._cycles or t - self._cycles[-1][0] > self.max_gap_s:

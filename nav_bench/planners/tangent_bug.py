@@ -311,6 +311,7 @@ class TangentBug(Planner):
         self.stall = 0
         self.side = RIGHT
         self.follower: WallFollower | None = None
+        self._circled = False
         # one follower per side, both watching every cycle: the one that takes over already
         # remembers the boundary it is to follow
         self.followers = {side: WallFollower(side, p.wall_distance, p.v_max, p.front_distance)
@@ -490,6 +491,12 @@ class TangentBug(Planner):
         if not self.acquired and (cmd := self._approach(obs, xy, v)) is not None:
             return cmd  # first approach the boundary that blocks the way
         cmd = self.follower.act(obs)
+        if self.follower.circling.fired and not self._circled:
+            self._circled = True  # once an episode: motion to goal afresh, then a verdict
+            self.follower.circling.clear()
+            self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
+            self.loop.disarm()
+            return STOP
         if self.follower.circling.fired:  # issue 12: see the module docstring
             self.mode = UNREACHABLE
             self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]), reason="circling")
