@@ -208,6 +208,9 @@ class CirclesFrom:
     def __init__(self, t: float) -> None:
         self.t, self.fired = t, False
 
+    def clear(self) -> None:
+        self.fired = False
+
     def update(self, t: float, x: float, y: float, yaw: float) -> bool:
         self.fired = t >= self.t
         return self.fired

@@ -109,3 +109,11 @@ def test_a_pause_in_the_follower_cycles_starts_the_watch_again():
     assert circle_in_place(detector, 0.25, 0.15, 15.0) is None
     # 1 s without a cycle (the planner drove to the goal), then circling again from t = 16 s
     assert circle_in_place(detector, 0.25, 0.15, 30.0, t0=16.0) == 200  # t = 36 s
+
+
+def test_clearing_the_detector_starts_the_watch_again():
+    detector = CirclingDetector(RIGHT)
+    assert circle_in_place(detector, 0.25, 0.15, 20.0) == 200
+    detector.clear()  # the planner restarted: 20 s more of circling before it is said again
+    assert not detector.fired
+    assert circle_in_place(detector, 0.25, 0.15, 30.0, t0=20.1) == 200  # t = 40.1 s
