@@ -31,9 +31,12 @@ The m-line is the segment from the start (the pose at :meth:`Bug2.reset`) to the
 * **Circling in place** (issue 12): when the follower turns full circles away from
   ``wall_side`` without leaving a small disc (:class:`~nav_bench.planners.follow.CirclingDetector`:
   at a junction of gaps its corridor ahead never shows clear), the robot can neither go on
-  round the boundary nor reach a leave point: it stops and emits ``unreachable`` with
-  ``reason="circling"`` (``reason="lap"`` for the lap above), a verdict where the episode
-  would otherwise end ``stuck`` (``oscillating``) 70 s later.
+  round the boundary nor reach a leave point. The first time in an episode it resumes motion
+  to goal and re-acquires the obstacle at its next hit, as after a lap that proves nothing
+  (the same circling ends in an escape as often as not: results/baselines/follow_s17); the
+  second time it stops and emits ``unreachable`` with ``reason="circling"`` (``reason="lap"``
+  for the lap above), a verdict where the episode would otherwise end ``stuck``
+  (``oscillating``).
 
 Every hit emits a ``replan`` event (the path changes from the m-line to the boundary).
 """

@@ -51,9 +51,10 @@ less than TangentBug assumes, which is the point of comparing it on this robot.
 * **Circling in place** (issue 12): when the follower turns full circles away from its side
   without leaving a small disc (:class:`~nav_bench.planners.follow.CirclingDetector`: at a
   junction of gaps its corridor ahead never shows clear), it can neither go round the boundary
-  nor reach a point to leave from: the robot stops and emits ``unreachable`` with
-  ``reason="circling"``, a verdict where the episode would otherwise end ``stuck``
-  (``oscillating``) 70 s later.
+  nor reach a point to leave from. The first time in an episode it resumes motion to goal
+  afresh (the same circling ends in an escape as often as not: results/baselines/follow_s17);
+  the second time the robot stops and emits ``unreachable`` with ``reason="circling"``, a
+  verdict where the episode would otherwise end ``stuck`` (``oscillating``).
 
 Each switch to boundary following emits a ``replan`` event.
 
