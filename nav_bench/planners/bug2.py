@@ -28,16 +28,6 @@ The m-line is the segment from the start (the pose at :meth:`Bug2.reset`) to the
   away from ``wall_side`` until the corridor ahead is clear (at most 135 deg), so that the
   obstacle hit is the one on its side when following starts.
 
-* **Circling in place** (issue 12): when the follower turns full circles away from
-  ``wall_side`` without leaving a small disc (:class:`~nav_bench.planners.follow.CirclingDetector`:
-  at a junction of gaps its corridor ahead never shows clear), the robot can neither go on
-  round the boundary nor reach a leave point. The first time in an episode it resumes motion
-  to goal and re-acquires the obstacle at its next hit, as after a lap that proves nothing
-  (the same circling ends in an escape as often as not: results/baselines/follow_s17); the
-  second time it stops and emits ``unreachable`` with ``reason="circling"`` (``reason="lap"``
-  for the lap above), a verdict where the episode would otherwise end ``stuck``
-  (``oscillating``).
-
 Every hit emits a ``replan`` event (the path changes from the m-line to the boundary).
 """
 
@@ -48,7 +38,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from nav_bench.interface import Command, Observation, StuckReason
+from nav_bench.interface import Command, Observation
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import (
     FOLLOW,
@@ -63,7 +53,6 @@ from nav_bench.planners.follow import (
     arrival_speed,
     corridor_half_width,
     free_along,
-    mode_stuck_reason,
     obstacle_ahead,
     steer,
 )
@@ -128,7 +117,6 @@ class Bug2(Planner):
         self._hits: list[list[float]] = []
         self._swept = 0.0  # angle (rad) the path since the hit point swept round the goal
         self._reacquire = False  # a lap left the goal outside: turn the next hit obstacle to the side
-        self._circled = False
         self._turn_in: float | None = None  # heading (rad) at that hit while turning it to the side
 
     # -- m-line geometry -------------------------------------------------------------------------
@@ -189,14 +177,6 @@ class Bug2(Planner):
                 cmd = steer(obs, heading, arrival_speed(to_goal, v))
             else:
                 cmd = self.follower.act(obs)
-                if self.follower.circling.fired and not self._circled:
-                    self._circled = True
-                    self.follower.circling.clear()
-                    self.mode, self._reacquire, self._turn_in = GO, True, None
-                    self.loop.disarm()
-                    cmd = steer(obs, heading, arrival_speed(to_goal, v))
-                elif self.follower.circling.fired:  # issue 12: see the module docstring
-                    cmd = self._unreachable(obs, xy, "circling")
         self._prev_xy = xy.copy()
         return cmd
 
@@ -208,17 +188,13 @@ class Bug2(Planner):
         assert self.hit is not None
         winding = round((self._swept + swept_angle(xy, self.hit, goal)) / (2 * math.pi))
         if winding != 0:
-            return self._unreachable(obs, xy, "lap")
+            self.mode = UNREACHABLE
+            self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]))
+            return STOP
         self.emit("lap", obs.t, x=float(xy[0]), y=float(xy[1]), goal_enclosed=False)
         self.mode, self._reacquire, self._turn_in = GO, True, None
         self.loop.disarm()
         return steer(obs, heading, arrival_speed(to_goal, v))
-
-    def _unreachable(self, obs: Observation, xy: np.ndarray, reason: str) -> Command:
-        """Give up: stop, and emit ``unreachable`` with ``reason`` (``lap`` or ``circling``)."""
-        self.mode = UNREACHABLE
-        self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]), reason=reason)
-        return STOP
 
     def _turn_to_side(self, obs: Observation, half_width: float) -> Command | None:
         """After re-acquiring, the turn on the spot that brings the hit obstacle from ahead to
@@ -231,9 +207,6 @@ class Bug2(Planner):
             self._turn_in = None
             return None
         return Command(0.0, -self.side * min(TURN_IN_RATE, obs.robot.omega_max))
-
-    def stuck_reason(self) -> StuckReason | None:
-        return mode_stuck_reason(self.mode)
 
     def debug_state(self) -> dict[str, Any]:
         """``mode``, ``hit_points`` [[x, y], ...] and ``m_line`` [[start], [goal]] (m)."""

@@ -19,7 +19,6 @@ from nav_bench.interface import (
     Observation,
     RobotInfo,
     SonarInfo,
-    StuckReason,
     once_per_observation,
     wrap_angle,
 )
@@ -27,13 +26,6 @@ from nav_bench.interface import (
 LEFT, RIGHT = 1, -1  # side signs: +1 = the robot's left (+y), -1 = its right
 # modes of the bug family (Bug2, TangentBug): drive to the goal, follow a boundary, give up
 GO, FOLLOW, UNREACHABLE = "motion_to_goal", "follow_boundary", "unreachable"
-
-
-def mode_stuck_reason(mode: str) -> StuckReason | None:
-    """A bug planner's ``stuck_reason`` in ``mode``: NO_PATH once it has given up (UNREACHABLE:
-    it stands still on its verdict, and the episode, judging the motion of its last 90 s, would
-    call the circling that led there ``oscillating``), else None."""
-    return StuckReason.NO_PATH if mode == UNREACHABLE else None
 
 
 def corridor_half_width(robot: RobotInfo) -> float:
@@ -230,9 +222,6 @@ class WallFollower:
     Between the two rules (an echo ahead nearer than ``front`` but farther than the side plus
     ``ahead_slack``) the robot turns on the spot toward the tangent, at least at
     ``band_turn_rate`` (:meth:`_band_turn`; it used to stand there: results/baselines/follow_s16).
-    At a junction of gaps it cannot show clear the robot can turn full circles away from its
-    side for good; ``circling`` (:class:`CirclingDetector`, updated by :meth:`act`) says so, and
-    the planner decides what to do (results/baselines/follow_s17).
 
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
@@ -277,7 +266,6 @@ class WallFollower:
         # follower's act() asks again in the same cycle); cleared when the memory changes
         self._nearest_of: tuple[Observation, tuple[float, float] | None] | None = None
         self._groups_of: SonarInfo | None = None  # the sonar ring of ``_groups``
-        self.circling = CirclingDetector(side)  # read by the planner after act(), see its docstring
 
     def _sonar_groups(self, sonar: SonarInfo) -> tuple[np.ndarray, np.ndarray]:
         """(K,) bool each: the side sonars whose echoes are remembered, and the sonars on the
@@ -478,10 +466,6 @@ class WallFollower:
         return min(0.6 * robot.omega_max, self.max_turn_rate)
 
     def act(self, obs: Observation) -> Command:
-        self.circling.update(obs.t, *(float(q) for q in obs.pose))
-        return self._act(obs)
-
-    def _act(self, obs: Observation) -> Command:
         robot = obs.robot
         self.observe(obs)
         v = min(self.speed, robot.v_max)
@@ -629,66 +613,6 @@ class EchoMemory:
 
 
 # ----------------------------------------------------------------------------- loops
-class CirclingDetector:
-    """Is a wall follower circling in place, turning away from its side (issue 12)?
-
-    At a junction of two or three obstacles with gaps of 0.4-0.66 m (Bug2 and TangentBug
-    office_2, Bug2 office_13, TangentBug clutter_9 of the families) the follower alternates
-    the turn on the spot away from a wall ahead with a short drive toward the next gap's side,
-    whose corridor ahead is blocked again: it turns full circles away from its side, 1.9-5 turns
-    in 20 s, without leaving a disc of 0.12-0.43 m (results/baselines/follow_s17). Following a
-    boundary turns the robot toward its side in net (a lap round an obstacle) or not at all
-    (along a wall); against it only inside a room, over metres. :meth:`update` says True when,
-    over the last ``window_s`` seconds of consecutive follower cycles, the robot turned at least
-    ``min_turns`` full turns away from ``side`` in net and its positions fit in a disc of
-    ``radius`` m (the half-diagonal of their bounding box). The planner decides what that means.
-
-    Args:
-        side: LEFT (+1) or RIGHT (-1), the side the follower keeps the boundary on.
-        window_s: how long the circling is watched, s (well under the episode's own 90 s
-            ``oscillating`` window, so the planner decides first).
-        min_turns: full turns (2 pi rad each) away from the side within the window.
-        radius: m, the disc the positions of the window stay in.
-        max_gap_s: s; cycles further apart than this are not consecutive (the planner did not
-            follow in between) and the watch starts again.
-    """
-
-    def __init__(self, side: int, window_s: float = 20.0, min_turns: float = 1.5, radius: float = 0.5,
-                 max_gap_s: float = 0.5) -> None:
-        self.side, self.window_s, self.min_turns, self.radius = side, window_s, min_turns, radius
-        self.max_gap_s = max_gap_s
-        self._cycles: deque[tuple[float, float, float, float]] = deque()  # (t, x, y, turn since the previous cycle)
-        self._since = math.inf  # time the consecutive cycles began, s
-        self._yaw = 0.0  # heading of the last cycle, rad
-        self.fired = False  # the last update's answer
-
-    def clear(self) -> None:
-        """Start the watch again at the next cycle (the planner acted on what it was told)."""
-        self._cycles.clear()
-        self.fired = False
-
-    def update(self, t: float, x: float, y: float, yaw: float) -> bool:
-        """Feed a follower cycle's time (s), position (m) and heading (rad); True when circling."""
-        if not self._cycles or t - self._cycles[-1][0] > self.max_gap_s:
-            self._cycles.clear()
-            self._since, turn = t, 0.0
-        else:
-            turn = wrap_angle(yaw - self._yaw)
-        self._yaw = yaw
-        self._cycles.append((t, x, y, turn))
-        while self._cycles[0][0] < t - self.window_s:
-            self._cycles.popleft()
-        self.fired = t - self._since >= self.window_s and self._circled()
-        return self.fired
-
-    def _circled(self) -> bool:
-        away = -self.side * math.fsum(c[3] for c in self._cycles)
-        if away < self.min_turns * 2.0 * math.pi:
-            return False
-        xs, ys = [c[1] for c in self._cycles], [c[2] for c in self._cycles]
-        return math.hypot(max(xs) - min(xs), max(ys) - min(ys)) / 2.0 <= self.radius
-
-
 class LoopDetector:
     """Has the robot gone once around the boundary it follows?
 

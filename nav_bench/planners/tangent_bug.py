@@ -48,14 +48,6 @@ less than TangentBug assumes, which is the point of comparing it on this robot.
   (issue 12's false ``unreachable``); it stays in force until a lap closes because mazes are
   solved by it. A second lap -> stop and emit ``unreachable``.
 
-* **Circling in place** (issue 12): when the follower turns full circles away from its side
-  without leaving a small disc (:class:`~nav_bench.planners.follow.CirclingDetector`: at a
-  junction of gaps its corridor ahead never shows clear), it can neither go round the boundary
-  nor reach a point to leave from. The first time in an episode it resumes motion to goal
-  afresh (the same circling ends in an escape as often as not: results/baselines/follow_s17);
-  the second time the robot stops and emits ``unreachable`` with ``reason="circling"``, a
-  verdict where the episode would otherwise end ``stuck`` (``oscillating``).
-
 Each switch to boundary following emits a ``replan`` event.
 
 Cost per cycle (issue 16): the remembered echoes within ``R`` are turned into distances,
@@ -75,7 +67,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from nav_bench.interface import Command, Observation, StuckReason, wrap_angle
+from nav_bench.interface import Command, Observation, wrap_angle
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.follow import (
     FOLLOW,
@@ -90,7 +82,6 @@ from nav_bench.planners.follow import (
     arrival_speed,
     corridor_half_width,
     echo_mask,
-    mode_stuck_reason,
     obstacle_ahead,
     steer,
 )
@@ -312,7 +303,6 @@ class TangentBug(Planner):
         self.stall = 0
         self.side = RIGHT
         self.follower: WallFollower | None = None
-        self._circled = False
         # one follower per side, both watching every cycle: the one that takes over already
         # remembers the boundary it is to follow
         self.followers = {side: WallFollower(side, p.wall_distance, p.v_max, p.front_distance)
@@ -489,20 +479,9 @@ class TangentBug(Planner):
                 self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
                 self.loop.disarm()
                 return steer(obs, theta_g, arrival_speed(d_goal, v))
-        if not self.acquired and (cmd := self._approach(obs, xy, v)) is not None:
-            return cmd  # first approach the boundary that blocks the way
-        cmd = self.follower.act(obs)
-        if self.follower.circling.fired and not self._circled:
-            self._circled = True  # once an episode: motion to goal afresh, then a verdict
-            self.follower.circling.clear()
-            self.mode, self.h_min, self.stall, self._endpoint = GO, math.inf, 0, None
-            self.loop.disarm()
-            return STOP
-        if self.follower.circling.fired:  # issue 12: see the module docstring
-            self.mode = UNREACHABLE
-            self.emit("unreachable", obs.t, x=float(xy[0]), y=float(xy[1]), reason="circling")
-            return STOP
-        return cmd
+        if not self.acquired:  # first approach the boundary that blocks the way
+            return self._approach(obs, xy, v) or self.follower.act(obs)
+        return self.follower.act(obs)
 
     def _nearest_side_goal_distance(self, obs: Observation, xy: np.ndarray, goal: np.ndarray) -> float:
         """Goal distance (m) of the follower's nearest echo on the followed side (the boundary
@@ -547,9 +526,6 @@ class TangentBug(Planner):
         if self.acquired:
             return None
         return steer(obs, math.atan2(target[1] - xy[1], target[0] - xy[0]), v)
-
-    def stuck_reason(self) -> StuckReason | None:
-        return mode_stuck_reason(self.mode)
 
     def debug_state(self) -> dict[str, Any]:
         """``mode``, ``memory`` (M, 2) remembered echoes, ``follow_starts`` [[x, y], ...] where

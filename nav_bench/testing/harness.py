@@ -200,22 +200,6 @@ def run(planner: Planner, world: BoxWorld, start: tuple[float, float, float],
 
 
 # ----------------------------------------------------------------------------- test worlds
-class CirclesFrom:
-    """A stand-in for a wall follower's ``circling`` detector
-    (:class:`~nav_bench.planners.follow.CirclingDetector`) that says circling at every follower
-    cycle from ``t`` s on: to test what a planner does then, without a world that makes it."""
-
-    def __init__(self, t: float) -> None:
-        self.t, self.fired = t, False
-
-    def clear(self) -> None:
-        self.fired = False
-
-    def update(self, t: float, x: float, y: float, yaw: float) -> bool:
-        self.fired = t >= self.t
-        return self.fired
-
-
 def wall_world() -> tuple[BoxWorld, tuple[float, float, float], tuple[float, float]]:
     """8 x 6 m room, a 3 m wall across the straight line at x = 4 (start left, goal right)."""
     world = BoxWorld.room((8.0, 6.0), [(3.9, 1.5, 4.1, 4.5)])

@@ -12,17 +12,8 @@ import math
 import numpy as np
 import pytest
 
-from nav_bench.interface import StuckReason
 from nav_bench.planners.bug2 import FOLLOW, GO, UNREACHABLE, Bug2, swept_angle
-from nav_bench.testing.harness import (
-    BoxWorld,
-    CirclesFrom,
-    default_robot,
-    observe,
-    run,
-    u_world,
-    wall_world,
-)
+from nav_bench.testing.harness import BoxWorld, default_robot, observe, run, u_world, wall_world
 
 
 @pytest.mark.parametrize("seed", [0, 1])
@@ -152,24 +143,3 @@ def test_reaches_the_goal_through_a_generated_maze_in_the_simulator() -> None:
     result = run_episode(world, PlannerSetSpec(planner="bug2"), seed=0)
     assert result.row.outcome == "reached", result.row
     assert result.row.collisions == 0
-
-
-def test_a_follower_circling_in_place_restarts_motion_to_goal_then_is_a_verdict() -> None:
-    """Issue 12: the first time the follower says it circles in place, Bug2 resumes motion to
-    goal (and re-acquires the obstacle at its next hit, as after a lap that proves nothing); the
-    second time it stops for good with an ``unreachable`` event (reason ``circling``), and says
-    ``no_path`` if the episode asks why it is stuck (it used to be judged ``oscillating``)."""
-    world, start, goal = wall_world()
-    planner = Bug2()
-    planner.reset(observe(world, np.array(start), np.array(goal), default_robot(), 0.0, 0.1),
-                  np.random.default_rng(0))
-    assert planner.stuck_reason() is None
-    planner.follower.circling = CirclesFrom(10.0)
-    result = run(planner, world, start, goal, time_s=20.0, reset=False)
-    (_, t_stop, why), = [e for e in result.events if e[0] == "unreachable"]
-    hits = [t for kind, t, _ in result.events if kind == "replan"]
-    assert len(hits) == 2 and hits[0] < 10.0 < hits[1] <= t_stop  # the restart's new hit
-    assert why["reason"] == "circling" and t_stop < 12.0  # at the first follower cycle after it
-    assert planner.mode == UNREACHABLE and planner.stuck_reason() == StuckReason.NO_PATH
-    stopped = result.commands[round(t_stop / 0.1):]
-    assert len(stopped) > 80 and np.all(stopped == 0.0)  # to the end of the 20 s

@@ -1,6 +1,5 @@
 """LoopDetector: a lap around a boundary is a return to the start with a net turn of 2 pi;
-a follower that turned back the way it came has not gone round anything. CirclingDetector:
-a follower turning full circles away from its side within a small disc (issue 12)."""
+a follower that turned back the way it came has not gone round anything."""
 
 from __future__ import annotations
 
@@ -8,7 +7,7 @@ import math
 
 import numpy as np
 
-from nav_bench.planners.follow import LEFT, RIGHT, CirclingDetector, LoopDetector
+from nav_bench.planners.follow import LEFT, RIGHT, LoopDetector
 
 
 def feed(detector: LoopDetector, xy: np.ndarray, yaw: np.ndarray) -> int | None:
@@ -66,54 +65,3 @@ def test_with_a_side_only_a_lap_turning_toward_that_side_fires():
     xy_cw = np.stack([np.cos(cw), np.sin(cw)], axis=1)
     assert feed(LoopDetector(radius=0.4, min_length=1.6, side=RIGHT), xy_cw, cw - math.pi / 2) is not None
     assert feed(LoopDetector(radius=0.4, min_length=1.6, side=LEFT), xy_cw, cw - math.pi / 2) is None
-
-
-# ----------------------------------------------------------------------------- circling in place
-def circle_in_place(detector: CirclingDetector, turns_per_s: float, radius: float, seconds: float,
-                    t0: float = 0.0) -> int | None:
-    """Feed a robot on a circle of ``radius`` m round (1, 1), heading along it, ``turns_per_s``
-    full turns a second (+ counter-clockwise), at 10 Hz from ``t0`` s for ``seconds`` s; the
-    index of the first cycle at which the detector says circling, None if it never does."""
-    fired = None
-    for i in range(round(seconds * 10) + 1):
-        t = t0 + i / 10
-        a = 2 * math.pi * turns_per_s * (i / 10)
-        yaw = a + math.copysign(math.pi / 2, turns_per_s)
-        if detector.update(t, 1.0 + radius * math.cos(a), 1.0 + radius * math.sin(a), yaw) and fired is None:
-            fired = i
-    return fired
-
-
-def test_circling_in_place_away_from_the_side_is_said_once_the_window_is_watched():
-    # the office_2 pirouette: a turn every 4 s away from a wall on the right, within 0.15 m
-    assert circle_in_place(CirclingDetector(RIGHT), 0.25, 0.15, 60.0) == 200  # t = 20 s: 5 turns
-    assert circle_in_place(CirclingDetector(LEFT), -0.25, 0.15, 60.0) == 200
-
-
-def test_circling_toward_the_side_is_a_lap_round_something_not_circling():
-    assert circle_in_place(CirclingDetector(RIGHT), -0.25, 0.15, 60.0) is None
-    assert circle_in_place(CirclingDetector(LEFT), 0.25, 0.15, 60.0) is None
-
-
-def test_circling_needs_one_and_a_half_turns_in_the_window_within_the_disc():
-    # 20 s: 1.4 turns away do not count, 1.6 do (from the first 20 s watched)
-    assert circle_in_place(CirclingDetector(RIGHT), 1.4 / 20, 0.15, 60.0) is None
-    assert circle_in_place(CirclingDetector(RIGHT), 1.6 / 20, 0.15, 60.0) == 200
-    # the positions' bounding box: half-diagonal 0.3 sqrt 2 = 0.42 m counts, 0.4 sqrt 2 = 0.57 m not
-    assert circle_in_place(CirclingDetector(RIGHT), 0.25, 0.30, 60.0) == 200
-    assert circle_in_place(CirclingDetector(RIGHT), 0.25, 0.40, 60.0) is None
-
-
-def test_a_pause_in_the_follower_cycles_starts_the_watch_again():
-    detector = CirclingDetector(RIGHT)
-    assert circle_in_place(detector, 0.25, 0.15, 15.0) is None
-    # 1 s without a cycle (the planner drove to the goal), then circling again from t = 16 s
-    assert circle_in_place(detector, 0.25, 0.15, 30.0, t0=16.0) == 200  # t = 36 s
-
-
-def test_clearing_the_detector_starts_the_watch_again():
-    detector = CirclingDetector(RIGHT)
-    assert circle_in_place(detector, 0.25, 0.15, 20.0) == 200
-    detector.clear()  # the planner restarted: 20 s more of circling before it is said again
-    assert not detector.fired
-    assert circle_in_place(detector, 0.25, 0.15, 30.0, t0=20.1) == 200  # t = 40.1 s

@@ -13,11 +13,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from nav_bench.interface import Observation, RobotInfo, SonarInfo, StuckReason
+from nav_bench.interface import Observation, RobotInfo, SonarInfo
 from nav_bench.planners.base import Planner
 from nav_bench.planners.bug2 import Bug2
 from nav_bench.planners.dwa import DWA
-from nav_bench.planners.follow import LEFT, RIGHT, UNREACHABLE, EchoMemory, world_echoes
+from nav_bench.planners.follow import LEFT, RIGHT, EchoMemory, world_echoes
 from nav_bench.planners.tangent_bug import (
     OtherBoundaryLap,
     TangentBug,
@@ -26,7 +26,6 @@ from nav_bench.planners.tangent_bug import (
     range_bins,
     range_function,
 )
-from nav_bench.testing import harness
 from nav_bench.testing.harness import BoxWorld, default_robot, run, u_world, wall_world
 
 REPLAY = Path(__file__).resolve().parents[1] / "data" / "planner_replay"
@@ -341,23 +340,3 @@ def test_replayed_episode_gives_the_recorded_commands(name: str) -> None:
     # not), and their results differ in the last bit (1e-15 here), while a changed decision
     # moves a command by far more than 1e-9
     np.testing.assert_allclose(got, want, rtol=0.0, atol=1e-9)
-
-
-def test_a_follower_circling_in_place_restarts_motion_to_goal_then_is_a_verdict() -> None:
-    """Issue 12: the first time its follower says it circles in place, TangentBug resumes motion
-    to goal afresh; the second time it stops for good with an ``unreachable`` event (reason
-    ``circling``) and says ``no_path`` if asked why it is stuck."""
-    world, start, goal = wall_world()
-    planner = TangentBug()
-    planner.reset(harness.observe(world, np.array(start), np.array(goal), default_robot(), 0.0, 0.1),
-                  np.random.default_rng(0))
-    for follower in planner.followers.values():
-        follower.circling = harness.CirclesFrom(8.0)
-    result = run(planner, world, start, goal, time_s=20.0, reset=False)
-    (_, t_stop, why), = [e for e in result.events if e[0] == "unreachable"]
-    following = [t for kind, t, _ in result.events if kind == "replan"]
-    assert len(following) == 2 and following[0] < 8.0 < following[1] <= t_stop  # following again
-    assert why["reason"] == "circling" and t_stop < 12.0  # at the first follower cycle after it
-    assert planner.mode == UNREACHABLE and planner.stuck_reason() == StuckReason.NO_PATH
-    stopped = result.commands[round(t_stop / 0.1):]
-    assert len(stopped) > 80 and np.all(stopped == 0.0)  # to the end of the 20 s

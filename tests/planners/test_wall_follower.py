@@ -340,28 +340,3 @@ def test_every_reading_of_side_ahead_and_other_side_gets_a_command_that_moves_th
     assert still == []
 
 
-
-
-# ----------------------------------------------------------------------------- issue 12: circling in place
-def office_2_junction() -> BoxWorld:
-    """The junction of the generated world office_2 where Bug2 and TangentBug circled in place
-    (results/baselines/follow_s17): the room's south wall y = 0, a post (0.792, 0.85) r 0.247 and
-    a box's west end (x = 1.66, y = 0.588..1.012); gaps of 0.59-0.66 m between the three."""
-    posts = posts_world(((0.792, 0.85, 0.247),), (6.0, 4.0))
-    return BoxWorld(np.concatenate([posts.boxes, [[1.66, 0.588, 2.956, 1.012]]]), posts.bounds)
-
-
-@pytest.mark.parametrize("start_deg", [29.0, -25.0])
-def test_a_follower_that_leaves_a_junction_of_gaps_is_not_said_to_circle(start_deg: float) -> None:
-    """On this noise-free harness the follower leaves office_2's junction (in the simulator it
-    circled there): the circling detector, which makes the bug planners give up, stays quiet."""
-    start = (1.26, 0.37, math.radians(start_deg))  # where the simulated robot circled
-    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
-    said = []
-    update = follower.circling.update
-    follower.circling.update = lambda *cycle: said.append(update(*cycle)) or said[-1]
-    world = office_2_junction()
-    poses = drive(follower, world, start, 30.0, robot=DIFFBOT_LIKE, inertia=DIFFBOT_INERTIA)
-    assert min(world.clearance(p[:2]) for p in poses) > 0.18  # the diffbot's radius: no contact
-    assert np.hypot(poses[-1, 0] - start[0], poses[-1, 1] - start[1]) > 1.0  # out of the junction
-    assert len(said) == 300 and not any(said)
