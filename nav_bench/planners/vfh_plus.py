@@ -116,7 +116,7 @@ from nav_bench.interface import Command, GridState, Observation, StuckReason, wr
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
-from nav_bench.planners.carving import SeeThroughCarving
+from nav_bench.planners.carving import UNDO_MODES, SeeThroughCarving
 from nav_bench.planners.follow import STOP, arrival_speed, limit
 
 
@@ -537,6 +537,15 @@ class VFHPlus(Planner):
               minimum=0.0, maximum=180.0),
         Param("carve_seen_through", True, "-", "build the histogram from the parts of the grid's cells the "
               "sonars have not seen through from two views (nav_bench.planners.carving); false: whole cells"),
+        Param("carve_memory_s", 10.0, "s", "how long a carved part stays carved (the two views that confirm it "
+              "still within 3 s; D* Lite: 3)", minimum=0.0),
+        Param("carve_undo", "unexplained", "-", "when an echo keeps carved parts again: off, axis (on a sonar's axis at "
+              "the range read) or unexplained (on an echo's arc none of whose parts is kept); SeeThroughCarving "
+              "undo", choices=UNDO_MODES),
+        Param("carve_body_clear", 0.0, "m", "the parts under the body are carved only while no sonar reads an "
+              "echo nearer than this (0: always; SeeThroughCarving body_clear)", minimum=0.0),
+        Param("carve_body_memory_s", 10.0, "s", "how long the body's carving of the parts under it lasts (at most "
+              "carve_memory_s; SeeThroughCarving body_memory_s)", minimum=0.0),
     )
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
@@ -544,7 +553,9 @@ class VFHPlus(Planner):
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
         self.frame = GridFrame.from_bounds(self.grid.bounds, self.grid.cell)
-        self.carving = SeeThroughCarving(self.frame, obs.pose)
+        self.carving = SeeThroughCarving(self.frame, obs.pose, memory_s=p.carve_memory_s,
+                                         undo=p.carve_undo, body_clear=p.carve_body_clear,
+                                         body_memory_s=p.carve_body_memory_s)
         if self.carving.compiled:
             _load_compiled_code()
         self.n = max(4, round(360.0 / p.sector_deg))
