@@ -361,7 +361,7 @@ def polar_histogram(cells_xy: np.ndarray, certainty: np.ndarray, xy: np.ndarray,
 
 def closing_sectors(window: ActiveWindow, bearings: np.ndarray, n_sectors: int, reach: float,
                     lookahead: float, min_certainty: float) -> np.ndarray:
-    """(n,) bool: the sectors along which the body, enlarged to ``reach`` m (``r_rs``), would
+    """(n,) bool: the sectors along which the body, enlarged to ``reach`` m (radius + margin), would
     close on a sure point (certainty above ``min_certainty``) within ``lookahead`` m of travel.
 
     A point at distance ``d`` and angle ``delta`` off a sector's centre blocks it when it lies
@@ -576,8 +576,10 @@ class VFHPlus(Planner):
         Param("carve_body_memory_s", 10.0, "s", "how long the body's carving of the parts under it lasts (at most "
               "carve_memory_s; SeeThroughCarving body_memory_s)", minimum=0.0),
         Param("closing_block", True, "-", "block every sector along which the body (enlarged by "
-              "safety_distance) would close on a sure point within the look-ahead, whatever its magnitude "
+              "closing_margin) would close on a sure point within the look-ahead, whatever its magnitude "
               "(closing_sectors)"),
+        Param("closing_margin", 0.02, "m", "the closing block's clearance beyond the body: less than "
+              "safety_distance, so that gaps the histogram keeps open stay open", minimum=0.0),
         Param("closing_lookahead_s", 0.3, "s", "the closing block's look-ahead: the distance the robot covers in "
               "this time at its current speed", minimum=0.0),
         Param("brake_speed", 0.02, "m/s", "a turn on the spot starts only below this speed; faster, the robot "
@@ -629,8 +631,8 @@ class VFHPlus(Planner):
         speed = self._speed(obs)
         blocked = self.binary
         if p.closing_block:  # a corner's one or two cells beside the body sum under the thresholds
-            blocked = blocked | closing_sectors(window, bearings, self.n, r_rs, abs(speed) * p.closing_lookahead_s,
-                                                p.mask_certainty)
+            blocked = blocked | closing_sectors(window, bearings, self.n, robot.radius + p.closing_margin,
+                                                abs(speed) * p.closing_lookahead_s, p.mask_certainty)
         self.masked = masked_histogram(blocked, yaw, phi_r, phi_l)
         k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
         k_heading = self._sector(yaw)
