@@ -359,6 +359,35 @@ def polar_histogram(cells_xy: np.ndarray, certainty: np.ndarray, xy: np.ndarray,
     return window_histogram(window, window.bearings(), n_sectors, r_rs, d_max, b)
 
 
+def closing_sectors(window: ActiveWindow, bearings: np.ndarray, n_sectors: int, reach: float,
+                    lookahead: float, min_certainty: float) -> np.ndarray:
+    """(n,) bool: the sectors along which the body, enlarged to ``reach`` m (radius + margin), would
+    close on a sure point (certainty above ``min_certainty``) within ``lookahead`` m of travel.
+
+    A point at distance ``d`` and angle ``delta`` off a sector's centre blocks it when it lies
+    ahead (``d cos delta > 0``), within the enlarged body's half-width across the sector
+    (``d |sin delta| < reach``), and the enlarged disc moving along the sector reaches it within
+    ``lookahead`` (``d cos delta - sqrt(reach^2 - (d sin delta)^2) < lookahead``). A point
+    already within ``reach`` blocks every sector ahead of it (``+-90 deg``).
+
+    Departure from Ulrich & Borenstein 1998 (why): there a cell blocks a sector only through its
+    magnitude ``c^2 (a - b d^2)`` summed over the cells within ``r_rs`` of the ray, against the
+    thresholds. A long wall sums several cells, but six sonars see a convex corner as one or two
+    cells, whose 650-2100 stays under ``threshold_high`` (2500), often under ``threshold_low``
+    (1500), while the body passes it 0-1 cm off (``results/baselines/vfh_s16b/``). This block is
+    binary and geometric: it does not depend on how many cells the corner has, only on whether
+    the body, moving along the sector, would touch it soon."""
+    sure = ((window.certainty > min_certainty) & (window.dist < reach + lookahead)).nonzero()[0]
+    if len(sure) == 0:
+        return np.zeros(n_sectors, dtype=bool)
+    dist = window.dist.take(sure)[:, None]
+    delta = bearings.take(sure)[:, None] - sector_centres(n_sectors)[None, :]  # (P, n)
+    ahead, across = dist * np.cos(delta), dist * np.abs(np.sin(delta))
+    inside = across < reach
+    reach_at = ahead - np.sqrt(np.where(inside, reach ** 2 - across ** 2, 0.0))  # travel to touch, m
+    return ((ahead > 0) & inside & (reach_at < lookahead)).any(axis=0)
+
+
 def binary_histogram(primary: np.ndarray, previous: np.ndarray, low: float, high: float) -> np.ndarray:
     """(n,) bool H^b: blocked above ``high``, free below ``low``, else as ``previous``."""
     # np.where(primary > high, True, np.where(primary < low, False, previous)) in fewer passes
@@ -546,6 +575,13 @@ class VFHPlus(Planner):
               "echo nearer than this (0: always; SeeThroughCarving body_clear)", minimum=0.0),
         Param("carve_body_memory_s", 10.0, "s", "how long the body's carving of the parts under it lasts (at most "
               "carve_memory_s; SeeThroughCarving body_memory_s)", minimum=0.0),
+        Param("closing_block", True, "-", "block every sector along which the body (enlarged by "
+              "closing_margin) would close on a sure point within the look-ahead, whatever its magnitude "
+              "(closing_sectors)"),
+        Param("closing_margin", 0.0, "m", "the closing block's clearance beyond the body: less than "
+              "safety_distance, so that gaps the histogram keeps open stay open", minimum=0.0),
+        Param("closing_lookahead_s", 0.3, "s", "the closing block's look-ahead: the distance the robot covers in "
+              "this time at its current speed", minimum=0.0),
         Param("brake_speed", 0.02, "m/s", "a turn on the spot starts only below this speed; faster, the robot "
               "brakes straight first (a spot turn at speed rolls the body on along its heading); 0: never brake",
               minimum=0.0),
@@ -593,7 +629,11 @@ class VFHPlus(Planner):
         radius_turn = abs(self.v_prev) / robot.omega_max
         phi_r, phi_l = window_turning_limits(window, bearings, obs.pose, radius_turn, r_rs, p.mask_certainty)
         speed = self._speed(obs)
-        self.masked = masked_histogram(self.binary, yaw, phi_r, phi_l)
+        blocked = self.binary
+        if p.closing_block:  # a corner's one or two cells beside the body sum under the thresholds
+            blocked = blocked | closing_sectors(window, bearings, self.n, robot.radius + p.closing_margin,
+                                                abs(speed) * p.closing_lookahead_s, p.mask_certainty)
+        self.masked = masked_histogram(blocked, yaw, phi_r, phi_l)
         k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
         k_heading = self._sector(yaw)
         # relaxed thresholds must not open a sector toward a cell within r_rs + one cell
