@@ -116,7 +116,7 @@ from nav_bench.interface import Command, GridState, Observation, StuckReason, wr
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
-from nav_bench.planners.carving import UNDO_MODES, SeeThroughCarving
+from nav_bench.planners.carving import SeeThroughCarving
 from nav_bench.planners.follow import STOP, arrival_speed, limit
 
 
@@ -359,35 +359,6 @@ def polar_histogram(cells_xy: np.ndarray, certainty: np.ndarray, xy: np.ndarray,
     return window_histogram(window, window.bearings(), n_sectors, r_rs, d_max, b)
 
 
-def closing_sectors(window: ActiveWindow, bearings: np.ndarray, n_sectors: int, reach: float,
-                    lookahead: float, min_certainty: float) -> np.ndarray:
-    """(n,) bool: the sectors along which the body, enlarged to ``reach`` m (radius + margin), would
-    close on a sure point (certainty above ``min_certainty``) within ``lookahead`` m of travel.
-
-    A point at distance ``d`` and angle ``delta`` off a sector's centre blocks it when it lies
-    ahead (``d cos delta > 0``), within the enlarged body's half-width across the sector
-    (``d |sin delta| < reach``), and the enlarged disc moving along the sector reaches it within
-    ``lookahead`` (``d cos delta - sqrt(reach^2 - (d sin delta)^2) < lookahead``). A point
-    already within ``reach`` blocks every sector ahead of it (``+-90 deg``).
-
-    Departure from Ulrich & Borenstein 1998 (why): there a cell blocks a sector only through its
-    magnitude ``c^2 (a - b d^2)`` summed over the cells within ``r_rs`` of the ray, against the
-    thresholds. A long wall sums several cells, but six sonars see a convex corner as one or two
-    cells, whose 650-2100 stays under ``threshold_high`` (2500), often under ``threshold_low``
-    (1500), while the body passes it 0-1 cm off (``results/baselines/vfh_s16b/``). This block is
-    binary and geometric: it does not depend on how many cells the corner has, only on whether
-    the body, moving along the sector, would touch it soon."""
-    sure = ((window.certainty > min_certainty) & (window.dist < reach + lookahead)).nonzero()[0]
-    if len(sure) == 0:
-        return np.zeros(n_sectors, dtype=bool)
-    dist = window.dist.take(sure)[:, None]
-    delta = bearings.take(sure)[:, None] - sector_centres(n_sectors)[None, :]  # (P, n)
-    ahead, across = dist * np.cos(delta), dist * np.abs(np.sin(delta))
-    inside = across < reach
-    reach_at = ahead - np.sqrt(np.where(inside, reach ** 2 - across ** 2, 0.0))  # travel to touch, m
-    return ((ahead > 0) & inside & (reach_at < lookahead)).any(axis=0)
-
-
 def binary_histogram(primary: np.ndarray, previous: np.ndarray, low: float, high: float) -> np.ndarray:
     """(n,) bool H^b: blocked above ``high``, free below ``low``, else as ``previous``."""
     # np.where(primary > high, True, np.where(primary < low, False, previous)) in fewer passes
@@ -566,25 +537,6 @@ class VFHPlus(Planner):
               minimum=0.0, maximum=180.0),
         Param("carve_seen_through", True, "-", "build the histogram from the parts of the grid's cells the "
               "sonars have not seen through from two views (nav_bench.planners.carving); false: whole cells"),
-        Param("carve_memory_s", 10.0, "s", "how long a carved part stays carved (the two views that confirm it "
-              "still within 3 s; D* Lite: 3)", minimum=0.0),
-        Param("carve_undo", "unexplained", "-", "when an echo keeps carved parts again: off, axis (on a sonar's axis at "
-              "the range read) or unexplained (on an echo's arc none of whose parts is kept); SeeThroughCarving "
-              "undo", choices=UNDO_MODES),
-        Param("carve_body_clear", 0.0, "m", "the parts under the body are carved only while no sonar reads an "
-              "echo nearer than this (0: always; SeeThroughCarving body_clear)", minimum=0.0),
-        Param("carve_body_memory_s", 10.0, "s", "how long the body's carving of the parts under it lasts (at most "
-              "carve_memory_s; SeeThroughCarving body_memory_s)", minimum=0.0),
-        Param("closing_block", True, "-", "block every sector along which the body (enlarged by "
-              "closing_margin) would close on a sure point within the look-ahead, whatever its magnitude "
-              "(closing_sectors)"),
-        Param("closing_margin", 0.0, "m", "the closing block's clearance beyond the body: less than "
-              "safety_distance, so that gaps the histogram keeps open stay open", minimum=0.0),
-        Param("closing_lookahead_s", 0.3, "s", "the closing block's look-ahead: the distance the robot covers in "
-              "this time at its current speed", minimum=0.0),
-        Param("brake_speed", 0.02, "m/s", "a turn on the spot starts only below this speed; faster, the robot "
-              "brakes straight first (a spot turn at speed rolls the body on along its heading); 0: never brake",
-              minimum=0.0),
     )
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
@@ -592,9 +544,7 @@ class VFHPlus(Planner):
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
         self.frame = GridFrame.from_bounds(self.grid.bounds, self.grid.cell)
-        self.carving = SeeThroughCarving(self.frame, obs.pose, memory_s=p.carve_memory_s,
-                                         undo=p.carve_undo, body_clear=p.carve_body_clear,
-                                         body_memory_s=p.carve_body_memory_s)
+        self.carving = SeeThroughCarving(self.frame, obs.pose)
         if self.carving.compiled:
             _load_compiled_code()
         self.n = max(4, round(360.0 / p.sector_deg))
@@ -606,7 +556,6 @@ class VFHPlus(Planner):
         self.blocked = False
         self.primary = np.zeros(self.n)
         self.masked = np.zeros(self.n, dtype=bool)
-        self.last_pose, self.last_t = np.asarray(obs.pose, dtype=float).copy(), obs.t
 
     def _sector(self, angle: float) -> float:
         return (angle % (2 * math.pi)) / self.alpha
@@ -628,12 +577,7 @@ class VFHPlus(Planner):
         self.binary = binary_histogram(self.primary, self.binary, p.threshold_low, p.threshold_high)
         radius_turn = abs(self.v_prev) / robot.omega_max
         phi_r, phi_l = window_turning_limits(window, bearings, obs.pose, radius_turn, r_rs, p.mask_certainty)
-        speed = self._speed(obs)
-        blocked = self.binary
-        if p.closing_block:  # a corner's one or two cells beside the body sum under the thresholds
-            blocked = blocked | closing_sectors(window, bearings, self.n, robot.radius + p.closing_margin,
-                                                abs(speed) * p.closing_lookahead_s, p.mask_certainty)
-        self.masked = masked_histogram(blocked, yaw, phi_r, phi_l)
+        self.masked = masked_histogram(self.binary, yaw, phi_r, phi_l)
         k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
         k_heading = self._sector(yaw)
         # relaxed thresholds must not open a sector toward a cell within r_rs + one cell
@@ -649,7 +593,7 @@ class VFHPlus(Planner):
             if not self.blocked:
                 self.emit("blocked", obs.t)
             self.blocked, self.v_prev = True, 0.0
-            return limit(0.0, self._spot_turn(self.turn_sign * 0.5 * robot.omega_max, speed), robot)
+            return limit(0.0, self.turn_sign * 0.5 * robot.omega_max, robot)
         self.blocked = False
         self.k_prev = k
         direction = k * self.alpha
@@ -658,7 +602,7 @@ class VFHPlus(Planner):
             self.turn_sign = math.copysign(1.0, err)
         omega = 2.5 * err
         if abs(err) > math.radians(p.turn_in_place_deg):
-            v, omega = 0.0, self._spot_turn(omega, speed)
+            v = 0.0
         else:
             density = float(self.primary[round(k_heading) % self.n])
             v = v_top * (1.0 - min(density, slow) / slow)
@@ -666,27 +610,6 @@ class VFHPlus(Planner):
         cmd = limit(v, omega, robot)
         self.v_prev = cmd.v
         return cmd if math.isfinite(cmd.v) else STOP
-
-    def _speed(self, obs: Observation) -> float:
-        """The robot's speed along its heading over the last cycle, m/s (odometry; the drive's
-        acceleration limit makes it lag the commands), and remember this cycle's pose."""
-        pose = np.asarray(obs.pose, dtype=float)
-        dt = obs.t - self.last_t
-        moved = pose[:2] - self.last_pose[:2]
-        yaw = float(pose[2])
-        speed = (float(moved[0]) * math.cos(yaw) + float(moved[1]) * math.sin(yaw)) / dt if dt > 0 else 0.0
-        self.last_pose, self.last_t = pose.copy(), obs.t
-        return speed
-
-    def _spot_turn(self, omega: float, speed: float) -> float:
-        """The turn rate of a turn on the spot, rad/s: ``omega``, or 0 while the robot still moves
-        faster than ``brake_speed`` m/s. Why: each wheel's acceleration is limited, so from speed
-        v0 the outer wheel speeds up to its turning speed while the inner one reverses and the
-        centre keeps v0 until the outer wheel gets there: at full turn rate the body rolls on
-        6 cm from 0.1 m/s and 18 cm from 0.3 m/s, against 2-4 cm braking straight
-        (``results/baselines/vfh_s17/``)."""
-        brake = self.settings.brake_speed
-        return 0.0 if brake > 0 and abs(speed) > brake else omega
 
     def _carved_window(self, obs: Observation, xy: np.ndarray, radius: float) -> ActiveWindow:
         """The active window (``radius`` m round ``xy``) with the parts of its cells the

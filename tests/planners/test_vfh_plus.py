@@ -20,7 +20,6 @@ from nav_bench.planners.vfh_plus import (
     candidate_directions,
     certainty_from_occupancy,
     choose_direction,
-    closing_sectors,
     masked_histogram,
     near_sectors,
     polar_histogram,
@@ -531,18 +530,16 @@ def test_a_cell_with_parts_seen_through_stands_as_its_kept_parts() -> None:
     np.testing.assert_allclose(hist, expected, rtol=1e-12)
 
 
-@pytest.mark.parametrize("memory_s", [3.0, 10.0])
-def test_the_gap_seen_through_closes_again_when_the_carving_memory_runs_out(memory_s: float) -> None:
+def test_the_gap_seen_through_closes_again_3_s_after_the_last_view_through_it() -> None:
     """The 0.55 m gap opened by the carving (as above), then the robot faces away from it for
     5 s (no cone looks toward it, the same view throughout, so nothing is seen through again),
     as VFH+ turns on the spot in front of a gap when the goal term picks the other valley. The
     carving of the jambs expires ``CARVE_MEMORY_S`` (3 s) after the last view that saw through
     it, and the grid closes the gap's three sectors again over threshold_high: in office_11 and
     clutter_0 the expired parts carry 37-42 % of the parts that close the way on while it is
-    closed (``results/baselines/vfh_s14/``). VFH+'s ``carve_memory_s`` 10 (``../vfh_s16``, with
-    ``carve_undo`` unexplained: an echo nothing kept explains takes a wrong carving back) keeps
-    the gap open at t = 6.5 s; 3 s is main's former and D* Lite's memory."""
-    planner = VFHPlus(carve_memory_s=memory_s)
+    closed (``results/baselines/vfh_s14/``). Keeping them longer (10 s, or 0.5 m of travel)
+    reached some of those endings but lost others (the same results folder)."""
+    planner = VFHPlus()
     xy = np.array([1.2, 1.5])
     planner.reset(observe(GAP_WORLD, np.array([1.2, 1.5, 0.0]), np.array([3.5, 1.5]), GAP_ROBOT, 0.0, 0.1),
                   np.random.default_rng(0))
@@ -554,65 +551,8 @@ def test_the_gap_seen_through_closes_again_when_the_carving_memory_runs_out(memo
     read_gap(planner, [math.pi] * 20, t0=1.6)  # facing away till t = 3.5 s: still open
     assert np.all(planner.primary[toward_gap] < p.threshold_low)
     assert not planner.binary[toward_gap].any()
-    read_gap(planner, [math.pi] * 30, t0=3.6)  # till t = 6.5 s: closed again after 3 s, as the grid has it
-    if memory_s > 6.5:
-        assert np.all(planner.primary[toward_gap] < p.threshold_low)
-        read_gap(planner, [math.pi] * 60, t0=6.6)  # till t = 12.5 s: closed again after 10 s
+    read_gap(planner, [math.pi] * 30, t0=3.6)  # till t = 6.5 s: closed again, as the grid has it
     grid_only = whole_cell_histogram(planner, xy)
     assert np.all(grid_only[toward_gap] > p.threshold_high)
     np.testing.assert_allclose(planner.primary[toward_gap], grid_only[toward_gap], rtol=1e-12)
     assert planner.binary[toward_gap].all()
-
-
-R_RS = 0.23  # m: the diffbot's 0.18 m body + safety_distance 0.05
-
-
-def corner_window(points: list[tuple[float, float]], certainty: float = 14.0) -> ActiveWindow:
-    """The window of a robot at the origin holding only ``points`` (m), each a sure cell."""
-    return ActiveWindow.of_cells(np.array(points), np.full(len(points), certainty), np.zeros(2))
-
-
-def test_a_convex_corner_beside_the_body_blocks_the_sectors_toward_it_not_those_away() -> None:
-    # the free end of a stub wall 62 deg left of the heading, 3.5 cm beyond the 0.18 m body:
-    # six sonars hold it as one sure cell (certainty 11), whose magnitude leaves the heading free in H^b
-    window = corner_window([(0.10, 0.19)], certainty=11.0)
-    primary = window_histogram(window, window.bearings(), N, R_RS, 1.2, 7.11)
-    assert primary[0] == pytest.approx(11.0 ** 2 * (1 + 7.11 * (1.2 ** 2 - 0.10 ** 2 - 0.19 ** 2)))
-    assert primary[0] < 1500.0  # under threshold_low: the paper's VFH+ drives on past it
-    closing = closing_sectors(window, window.bearings(), N, R_RS, 0.0, 3.0)
-    # within r_rs: every sector ahead of the point (62 +- 90 deg) is blocked, the rest free
-    deg = np.arange(N) * 5
-    expected = np.abs((deg - math.degrees(math.atan2(0.19, 0.10)) + 180) % 360 - 180) < 90
-    np.testing.assert_array_equal(closing, expected)
-    assert closing[0] and closing[12] and not closing[63] and not closing[36]  # 0, 60 | -45, 180 deg
-
-
-def test_a_point_beyond_r_rs_blocks_only_what_the_body_would_reach_within_the_look_ahead() -> None:
-    ahead = corner_window([(0.40, 0.0)])  # 17 cm beyond the enlarged body, dead ahead
-    assert not closing_sectors(ahead, ahead.bearings(), N, R_RS, 0.1, 3.0).any()
-    near = closing_sectors(ahead, ahead.bearings(), N, R_RS, 0.2, 3.0)
-    # the enlarged disc moving along delta reaches it after 0.4 cos(delta) - sqrt(r_rs^2 - (0.4 sin(delta))^2):
-    # 0.17 m at 0 deg, 0.191 m at 20 deg (blocked), 0.207 m at 25 deg (free), never beyond asin(r_rs / 0.4)
-    assert near[0] and near[4] and near[68] and not near[5] and not near[67]  # 0, +-20 | +-25 deg
-    assert near.sum() == 9
-    side = corner_window([(0.0, 0.25)])  # a wall's point alongside, 2 cm beyond r_rs: never closed on
-    assert not closing_sectors(side, side.bearings(), N, R_RS, 1.0, 3.0)[0]
-    faint = corner_window([(0.10, 0.19)], certainty=3.0)  # not above mask_certainty: no block
-    assert not closing_sectors(faint, faint.bearings(), N, R_RS, 0.2, 3.0).any()
-
-
-def test_a_turn_on_the_spot_brakes_straight_while_the_robot_still_rolls() -> None:
-    # goal behind the robot: a turn on the spot. At 0.3 m/s (odometry) it brakes, omega 0;
-    # below brake_speed it turns; with brake_speed 0 it turns at once
-    world, _start, _goal = open_room()
-    robot, goal = default_robot(), np.array([1.0, 2.5])
-    for brake, omegas in ((0.02, [0.0, robot.omega_max]), (0.0, [robot.omega_max, robot.omega_max])):
-        planner = VFHPlus(brake_speed=brake)
-        planner.reset(observe(world, np.array([3.0, 2.5, 0.0]), goal, robot, 0.0, 0.1),
-                      np.random.default_rng(0))
-        turns = []
-        for t, x in ((0.1, 3.03), (0.2, 3.031)):
-            cmd = planner.act(observe(world, np.array([x, 2.5, 0.0]), goal, robot, t, 0.1))
-            assert cmd.v == 0.0
-            turns.append(abs(cmd.omega))
-        assert turns == pytest.approx(omegas)
