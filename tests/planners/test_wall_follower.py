@@ -340,3 +340,67 @@ def test_every_reading_of_side_ahead_and_other_side_gets_a_command_that_moves_th
     assert still == []
 
 
+
+
+# ----------------------------------------------------------------------------- issue 12: a gap's far corner
+def office_2_junction() -> BoxWorld:
+    """The junction of the generated world office_2 where Bug2 and TangentBug circled in place
+    (results/baselines/follow_s17): the room's south wall y = 0, a post (0.792, 0.85) r 0.247 and
+    a box's west end (x = 1.66, y = 0.588..1.012); the channel under the box is 0.588 m wide."""
+    posts = posts_world(((0.792, 0.85, 0.247),), (6.0, 4.0))
+    return BoxWorld(np.concatenate([posts.boxes, [[1.66, 0.588, 2.956, 1.012]]]), posts.bounds)
+
+
+def approached(world: BoxWorld, follower: WallFollower, pose: tuple[float, float, float]) -> Observation:
+    """The follower's observation at ``pose`` (x m, y m, yaw deg) after driving the last 0.2 m
+    up to it straight along its heading (5 cycles remembered)."""
+    x, y, yaw = pose[0], pose[1], math.radians(pose[2])
+    for i, back in enumerate(np.linspace(-0.2, 0.0, 5)):
+        at = np.array([x + back * math.cos(yaw), y + back * math.sin(yaw), yaw])
+        obs = observe(world, at, np.array([100.0, 100.0]), DIFFBOT_LIKE, i * DT, DT, rays=7)
+        follower.observe(obs)
+    return obs
+
+
+def test_a_gaps_far_corner_met_off_its_middle_line_turns_the_robot_onto_that_line() -> None:
+    """Following the south wall east at 0.43 m into the 0.588 m channel under the box (0.14 m
+    off its middle line, y = 0.294), the box's corner (lateral 0.158 m) enters the corridor
+    ahead. Main turned on the spot away from the wall (+2 rad/s) and, in the simulator, circled
+    at the junction; the follower now measures the gap (0.43 + 0.115 m, 4 cm under its true
+    width: the corner's echo is placed on the sonar's axis) and drives slowly onto its middle
+    line, turning toward the wall (results/baselines/follow_s17a)."""
+    world = office_2_junction()
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    obs = approached(world, follower, (1.25, 0.43, 10.0))
+    near = follower.nearest(obs)
+    assert near is not None and near[0] == pytest.approx(0.43, abs=0.01)
+    corner = follower._far_corner_clearance(obs)
+    assert corner == pytest.approx(0.588 - 0.43, abs=0.05)
+    assert near[0] + corner == pytest.approx(0.588, abs=0.05)
+    heading = follower._centring_heading(obs, near)
+    assert heading is not None and math.radians(-30.0) < heading < 0.0  # toward the middle line
+    cmd = follower.act(obs)
+    assert 0.0 < cmd.v <= 0.2 and cmd.omega < 0.0  # drives on, turning toward the wall
+
+
+def test_a_gaps_far_corner_the_body_would_graze_on_the_way_to_the_middle_still_turns_away() -> None:
+    """0.04 m nearer the middle and heading 5 deg, the body swept onto the middle line would
+    graze the corner's possible echo positions (:meth:`WallFollower._axis_clear`): the robot
+    turns on the spot away from the wall, as main does."""
+    world = office_2_junction()
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    obs = approached(world, follower, (1.25, 0.39, 5.0))
+    assert math.isfinite(follower._far_corner_clearance(obs))
+    assert follower._centring_heading(obs, follower.nearest(obs)) is None
+    cmd = follower.act(obs)
+    assert cmd.v == 0.0 and cmd.omega == pytest.approx(2.0)
+
+
+def test_a_wall_across_the_way_is_no_gaps_far_corner() -> None:
+    """A wall across the way 0.4 m ahead is heard by the front sonars of both sides: it is not a
+    far corner to centre on, and the robot turns away from it on the spot."""
+    world = BoxWorld.room((6.0, 3.0), [(2.4, 0.0, 2.6, 3.0)])
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    obs = approached(world, follower, (2.0, 0.4, 0.0))
+    assert follower._far_corner_clearance(obs) == math.inf
+    assert follower._centring_heading(obs, follower.nearest(obs)) is None
