@@ -387,42 +387,6 @@ class WallFollower:
         echo = self._other_side_echo(obs)
         return math.inf if echo is None else -self.side * echo[1]
 
-    def _far_corner_clearance(self, obs: Observation) -> float:
-        """Lateral distance (m, from the robot centre) of the nearest echo of the other side's
-        front sonars (less than ``beside_sonars`` off the heading) inside the corridor ahead
-        (``0 < x < front``, ``|y| <`` :func:`corridor_half_width`), while the followed side's
-        front sonars hear nothing there; ``inf`` if none: the far corner of a gap that the
-        robot enters off its middle line."""
-        half = corridor_half_width(obs.robot)
-        nearest, followed_clear = math.inf, True
-        for x, y, angle in robot_frame_echoes(obs):
-            if not (abs(angle) <= self.front_sonars and 0.0 < x < self.front and abs(y) < half):
-                continue
-            if self.side * angle >= 0.0:
-                followed_clear = False
-            elif -self.side * angle < self.beside_sonars:
-                nearest = min(nearest, max(-self.side * y, 0.0))
-        return nearest if followed_clear else math.inf
-
-    def _centring_heading(self, obs: Observation, near: tuple[float, float] | None) -> float | None:
-        """World heading (rad) onto the middle line of a gap whose far corner
-        (:meth:`_far_corner_clearance`) blocks the corridor ahead, when the gap between it and
-        the followed point ``near`` (distance m, world bearing rad) fits the corridor, the robot
-        is nearer the corner than the followed side, and the body swept that way clears
-        (:meth:`_axis_clear`); else ``None``. Issue 12: at office_2's junction the robot came
-        into a 0.59 m channel 0.1 m off its middle, met the far corner, turned away on the spot
-        and circled (results/baselines/follow_s17a)."""
-        if near is None:
-            return None
-        corner = self._far_corner_clearance(obs)
-        dist, bearing = near
-        width = dist + corner
-        if not (2.0 * corridor_half_width(obs.robot) <= width and corner < dist):
-            return None
-        correction = min(self.max_correction, self.k_dist * (dist - 0.5 * width))
-        heading = bearing - self.side * math.pi / 2 + self.side * correction
-        return heading if self._axis_clear(obs, heading) else None
-
     def _other_side_echo(self, obs: Observation) -> tuple[float, float, float] | None:
         """The echo :meth:`other_side_clearance` measures, as in :func:`robot_frame_echoes`."""
         nearest, found = math.inf, None
@@ -522,9 +486,6 @@ class WallFollower:
         # until a wall ahead is as near as that side (+ ahead_slack) and then turns, rather than
         # stop short of it, where neither rule below would move it again
         front = self.front if math.isinf(other) else min(self.front, target + self.ahead_slack)
-        centring = self._centring_heading(obs, near)
-        if centring is not None:
-            return steer(obs, centring, 0.5 * v)
         if ahead < front and (near is None or ahead <= near[0] + self.ahead_slack):
             # the nearest boundary is straight ahead: its tangent is a right angle away from
             # the side; turn on the spot until the way ahead is clear
