@@ -29,9 +29,6 @@ def kernel_choices(reference: str = "numpy") -> tuple[str, str, str]:
     return ("auto", reference, "numba")
 
 
-KERNEL_CHOICES = kernel_choices()  # the occupancy grid's and the carving's
-
-
 def kernel(**options: Any) -> Callable[[Callable[..., Any]], Any]:
     """``numba.njit(**options)`` with an on-disk cache, or without one where Numba finds no
     writable cache folder (it raises at decoration then: a read-only install with no writable
@@ -70,7 +67,7 @@ def load(module: str) -> ModuleType | None:
 
 def use_kernels(choice: str, kernels: Callable[[], ModuleType | None], what: str,
                 reference: str = "numpy") -> bool:
-    """Whether an object offering the choice ``choice`` (:data:`KERNEL_CHOICES`, with
+    """Whether an object offering the choice ``choice`` (:func:`kernel_choices`, with
     ``reference`` naming its uncompiled code: "numpy", or "python" for D* Lite's search) runs
     compiled kernels: the reference never, ``numba`` always (an :class:`~nav_bench.errors.InputError` naming
     the ``fast`` extra without Numba), ``auto`` when they load. ``kernels``: the caller's loader

@@ -617,7 +617,7 @@ def _kernels() -> ModuleType | None:
 
 
 def _use_kernels(kernel: str) -> bool:
-    """Whether a grid built with ``kernel`` (:data:`nav_bench.compiled.KERNEL_CHOICES`) updates
+    """Whether a grid built with ``kernel`` (:func:`nav_bench.compiled.kernel_choices`) updates
     with the compiled kernels; loads their machine code once per process
     (:func:`_load_compiled_code`)."""
     if not compiled.use_kernels(kernel, _kernels, "occupancy grid"):
