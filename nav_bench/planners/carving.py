@@ -34,6 +34,7 @@ from nav_bench.planners.footprint import (
     PointObstacles,
     _part_offsets,
     cell_parts,
+    load_carving_kernels,
     pose_floats,
     seen_through_cells,
 )
@@ -44,10 +45,7 @@ PARTS = CARVE_SUB * CARVE_SUB  # parts per cell
 INF = math.inf
 
 
-def load_kernels() -> ModuleType | None:
-    """:mod:`nav_bench.planners.carving_kernels`, or None when Numba cannot be imported
-    (:func:`nav_bench.compiled.load`)."""
-    return compiled.load("nav_bench.planners.carving_kernels")
+load_kernels = load_carving_kernels  # the carving kernels' module, or None without Numba
 
 
 @dataclass(frozen=True)

@@ -117,7 +117,7 @@ class PointObstacles:
         self.radius, self.cap, self.bounds = half * math.sqrt(2.0), cap, bounds
         self._cx, self._cy = self.centres[:, 0], self.centres[:, 1]
         self._tree: cKDTree | None = None
-        if compiled and _carving_kernels() is None:
+        if compiled and load_carving_kernels() is None:
             raise InputError("compiled clearance needs Numba: pip install 'nav-bench[fast]'")
         self.compiled = compiled
 
@@ -147,7 +147,7 @@ class PointObstacles:
         if not (x0 <= x < x1 and y0 <= y < y1):
             return 0.0
         if self.compiled:
-            d2 = float(_carving_kernels().nearest_one(x, y, self.centres))  # type: ignore[union-attr]
+            d2 = float(load_carving_kernels().nearest_one(x, y, self.centres))  # type: ignore[union-attr]
         else:
             dx, dy = x - self._cx, y - self._cy
             d2 = float((dx * dx + dy * dy).min())
@@ -170,7 +170,7 @@ class PointObstacles:
         reach = bound + 1e-9  # centres farther along x or y than this are beyond the bound
         (xmin, ymin), (xmax, ymax) = box or (xy.min(axis=0).tolist(), xy.max(axis=0).tolist())
         if self.compiled:
-            return _carving_kernels().nearest(  # type: ignore[union-attr]
+            return load_carving_kernels().nearest(  # type: ignore[union-attr]
                 np.ascontiguousarray(xy), self.centres, float(bound), np.array([xmin, ymin, xmax, ymax]))
         near = (cx >= xmin - reach) & (cx <= xmax + reach) & (cy >= ymin - reach) & (cy <= ymax + reach)
         if not near.any():
@@ -182,8 +182,10 @@ class PointObstacles:
         return np.sqrt(d2)
 
 
-def _carving_kernels() -> ModuleType | None:
-    """:mod:`nav_bench.planners.carving_kernels`, or None when Numba cannot be imported."""
+def load_carving_kernels() -> ModuleType | None:
+    """:mod:`nav_bench.planners.carving_kernels`, or None when Numba cannot be imported
+    (:func:`nav_bench.compiled.load`); the carving's ``load_kernels`` too (carving imports this
+    module, so the lookup lives here)."""
     return compiled_code.load("nav_bench.planners.carving_kernels")
 
 

@@ -100,7 +100,7 @@ def test_numba_without_numba_names_the_fast_extra(monkeypatch: pytest.MonkeyPatc
     assert not SeeThroughCarving(frame, np.zeros(3), "auto").compiled  # falls back to NumPy
     from nav_bench.planners import footprint
 
-    monkeypatch.setattr(footprint, "_carving_kernels", lambda: None)
+    monkeypatch.setattr(footprint, "load_carving_kernels", lambda: None)
     with pytest.raises(InputError, match=r"nav-bench\[fast\]"):
         footprint.PointObstacles(np.zeros((1, 2)), 0.01, 0.5, (0.0, 0.0, 1.0, 1.0), compiled=True)
 
