@@ -222,6 +222,13 @@ class WallFollower:
     Between the two rules (an echo ahead nearer than ``front`` but farther than the side plus
     ``ahead_slack``) the robot turns on the spot toward the tangent, at least at
     ``band_turn_rate`` (:meth:`_band_turn`; it used to stand there: results/baselines/follow_s16).
+    At a junction of 0.57-0.66 m gaps the turn away and the drive to the next gap's mouth, off
+    its middle, made a limit cycle: full turns away from the side on the spot until the episode
+    ended ``oscillating`` (results/baselines/follow_s17). While ``circling``
+    (:class:`CirclingDetector`, updated by :meth:`act`) says so, and only then, the robot
+    steers onto the middle line of the gap whose far corner blocks the corridor ahead
+    (:meth:`_centring_heading`) instead of turning away: a recovery behaviour, like a
+    navigation stack's when its progress checker fails (results/baselines/follow_s18).
 
     Args:
         side: LEFT (+1) or RIGHT (-1), the side the wall is kept on.
@@ -266,6 +273,7 @@ class WallFollower:
         # follower's act() asks again in the same cycle); cleared when the memory changes
         self._nearest_of: tuple[Observation, tuple[float, float] | None] | None = None
         self._groups_of: SonarInfo | None = None  # the sonar ring of ``_groups``
+        self.circling = CirclingDetector(side)  # updated by act(): turns on the recovery
 
     def _sonar_groups(self, sonar: SonarInfo) -> tuple[np.ndarray, np.ndarray]:
         """(K,) bool each: the side sonars whose echoes are remembered, and the sonars on the
@@ -387,6 +395,46 @@ class WallFollower:
         echo = self._other_side_echo(obs)
         return math.inf if echo is None else -self.side * echo[1]
 
+    def _far_corner_clearance(self, obs: Observation) -> float:
+        """Lateral distance (m, from the robot centre) of the nearest echo of the other side's
+        front sonars (less than ``beside_sonars`` off the heading) inside the corridor ahead
+        (``0 < x < front``, ``|y| <`` :func:`corridor_half_width`), while the followed side's
+        front sonars hear nothing there; ``inf`` if none: the far corner of a gap that the
+        robot enters off its middle line."""
+        half = corridor_half_width(obs.robot)
+        nearest, followed_clear = math.inf, True
+        for x, y, angle in robot_frame_echoes(obs):
+            if not (abs(angle) <= self.front_sonars and 0.0 < x < self.front and abs(y) < half):
+                continue
+            if self.side * angle >= 0.0:
+                followed_clear = False
+            elif -self.side * angle < self.beside_sonars:
+                nearest = min(nearest, max(-self.side * y, 0.0))
+        return nearest if followed_clear else math.inf
+
+    def _centring_heading(self, obs: Observation, near: tuple[float, float] | None) -> float | None:
+        """World heading (rad) onto the middle line of a gap whose far corner
+        (:meth:`_far_corner_clearance`) blocks the corridor ahead, when the gap between it and
+        the followed point ``near`` (distance m, world bearing rad) fits the body with
+        ``sweep_margin`` a side, the robot is nearer the corner than the followed side, and the
+        body swept that way clears (:meth:`_axis_clear`); else ``None``. Issue 12: at office_2's
+        junction the robot came into a 0.59 m channel 0.1 m off its middle, met the far corner,
+        turned away on the spot and circled (results/baselines/follow_s17a). :meth:`act` asks
+        only while the follower circles (results/baselines/follow_s18)."""
+        if near is None:
+            return None
+        corner = self._far_corner_clearance(obs)
+        dist, bearing = near
+        width = dist + corner
+        # the body and the swept check's margin, not the corridor's 5 cm a side: the corner's
+        # echo, placed on the sonar's axis, reads 4-5 cm inside the gap (0.45 m for office_2's
+        # 0.59 m one), and _axis_clear guards the body on its way in
+        if not (2.0 * (obs.robot.radius + self.sweep_margin) <= width and corner < dist):
+            return None
+        correction = min(self.max_correction, self.k_dist * (dist - 0.5 * width))
+        heading = bearing - self.side * math.pi / 2 + self.side * correction
+        return heading if self._axis_clear(obs, heading) else None
+
     def _other_side_echo(self, obs: Observation) -> tuple[float, float, float] | None:
         """The echo :meth:`other_side_clearance` measures, as in :func:`robot_frame_echoes`."""
         nearest, found = math.inf, None
@@ -466,6 +514,10 @@ class WallFollower:
         return min(0.6 * robot.omega_max, self.max_turn_rate)
 
     def act(self, obs: Observation) -> Command:
+        self.circling.update(obs.t, *(float(q) for q in obs.pose))
+        return self._act(obs)
+
+    def _act(self, obs: Observation) -> Command:
         robot = obs.robot
         self.observe(obs)
         v = min(self.speed, robot.v_max)
@@ -486,6 +538,12 @@ class WallFollower:
         # until a wall ahead is as near as that side (+ ahead_slack) and then turns, rather than
         # stop short of it, where neither rule below would move it again
         front = self.front if math.isinf(other) else min(self.front, target + self.ahead_slack)
+        # the recovery from the junction's limit cycle, only while the follower circles (the
+        # centring everywhere took the robot into gaps that the turn away kept it out of, and
+        # those were grazed: results/baselines/follow_s17a, follow_s18)
+        centring = self._centring_heading(obs, near) if self.circling.fired else None
+        if centring is not None:
+            return steer(obs, centring, 0.5 * v)
         if ahead < front and (near is None or ahead <= near[0] + self.ahead_slack):
             # the nearest boundary is straight ahead: its tangent is a right angle away from
             # the side; turn on the spot until the way ahead is clear
@@ -613,6 +671,67 @@ class EchoMemory:
 
 
 # ----------------------------------------------------------------------------- loops
+class CirclingDetector:
+    """Is a wall follower circling in place, turning away from its side (issue 12)?
+
+    At a junction of two or three obstacles with gaps of 0.57-0.66 m (Bug2 and TangentBug
+    office_2, Bug2 office_13, TangentBug clutter_9 of the families) the follower alternates the
+    turn on the spot away from a wall ahead with a short drive toward the next gap's mouth, whose
+    corridor ahead is blocked again: it turns full circles away from its side, one every 4 s
+    (1.9-5 turns in 20 s), without leaving a disc of 0.12-0.44 m (results/baselines/follow_s17).
+    Following a boundary turns the robot toward its side in net (a lap round an obstacle) or not
+    at all (along a wall); away from it by half a turn in a dead end, and by more only inside a
+    room, over metres. :meth:`update` says True while the follower cycles of the last
+    ``window_s`` seconds (consecutive ones: a pause over ``max_gap_s`` starts the watch again)
+    turned at least ``min_turns`` full turns away from ``side`` in net and their positions fit
+    in a disc of ``radius`` m (the half-diagonal of their bounding box). It does not wait for a
+    full window: the office_2 cycle is said after 6 s, office_13's (a turn in 10 s) after 15 s,
+    both before the episode's 0.2 m / 30 s rule ends the tightest cycles. It stops saying so
+    when the robot leaves the disc or the turns leave the window.
+
+    The numbers are constants, not planner parameters: a parameter would change the parameter
+    set's id and with it every episode's noise stream, where the detector never fires.
+
+    Args:
+        side: LEFT (+1) or RIGHT (-1), the side the follower keeps the boundary on.
+        window_s: how long back the circling is watched, s.
+        min_turns: full turns (2 pi rad each) away from the side within the window.
+        radius: m, the disc the positions of the window stay in.
+        max_gap_s: s; cycles further apart than this are not consecutive (the planner did not
+            follow in between) and the watch starts again.
+    """
+
+    def __init__(self, side: int, window_s: float = 20.0, min_turns: float = 1.5, radius: float = 0.5,
+                 max_gap_s: float = 0.5) -> None:
+        self.side, self.window_s, self.min_turns, self.radius = side, window_s, min_turns, radius
+        self.max_gap_s = max_gap_s
+        self._cycles: deque[tuple[float, float, float, float]] = deque()  # (t, x, y, turn since the previous cycle)
+        self._turned = 0.0  # rad: sum of the window's turns (kept as the cycles come and go)
+        self._yaw = 0.0  # heading of the last cycle, rad
+        self.fired = False  # the last update's answer
+
+    def update(self, t: float, x: float, y: float, yaw: float) -> bool:
+        """Feed a follower cycle's time (s), position (m) and heading (rad); True when circling."""
+        if not self._cycles or t - self._cycles[-1][0] > self.max_gap_s:
+            self._cycles.clear()
+            self._turned, turn = 0.0, 0.0
+        else:
+            turn = wrap_angle(yaw - self._yaw)
+        self._yaw = yaw
+        self._cycles.append((t, x, y, turn))
+        self._turned += turn
+        while self._cycles[0][0] < t - self.window_s:
+            self._turned -= self._cycles.popleft()[3]
+        self.fired = self._circled()
+        return self.fired
+
+    def _circled(self) -> bool:
+        if -self.side * self._turned < self.min_turns * 2.0 * math.pi:
+            return False
+        xs, ys = [c[1] for c in self._cycles], [c[2] for c in self._cycles]
+        return math.hypot(max(xs) - min(xs), max(ys) - min(ys)) / 2.0 <= self.radius
+
+
 class LoopDetector:
     """Has the robot gone once around the boundary it follows?
 

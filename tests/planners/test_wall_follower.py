@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from nav_bench.interface import Observation, RobotInfo
-from nav_bench.planners.follow import LEFT, RIGHT, WallFollower
+from nav_bench.planners.follow import LEFT, RIGHT, CirclingDetector, WallFollower
 from nav_bench.testing.harness import BoxWorld, default_robot, observe
 
 DT = 0.1
@@ -340,3 +340,138 @@ def test_every_reading_of_side_ahead_and_other_side_gets_a_command_that_moves_th
     assert still == []
 
 
+
+
+# ----------------------------------------------------------------------------- issue 12: a gap's far corner
+def office_2_junction() -> BoxWorld:
+    """The junction of the generated world office_2 where Bug2 and TangentBug circled in place
+    (results/baselines/follow_s17): the room's south wall y = 0, a post (0.792, 0.85) r 0.247 and
+    a box's west end (x = 1.66, y = 0.588..1.012); the channel under the box is 0.588 m wide."""
+    posts = posts_world(((0.792, 0.85, 0.247),), (6.0, 4.0))
+    return BoxWorld(np.concatenate([posts.boxes, [[1.66, 0.588, 2.956, 1.012]]]), posts.bounds)
+
+
+def approached(world: BoxWorld, follower: WallFollower, pose: tuple[float, float, float]) -> Observation:
+    """The follower's observation at ``pose`` (x m, y m, yaw deg) after driving the last 0.2 m
+    up to it straight along its heading (5 cycles remembered)."""
+    x, y, yaw = pose[0], pose[1], math.radians(pose[2])
+    for i, back in enumerate(np.linspace(-0.2, 0.0, 5)):
+        at = np.array([x + back * math.cos(yaw), y + back * math.sin(yaw), yaw])
+        obs = observe(world, at, np.array([100.0, 100.0]), DIFFBOT_LIKE, i * DT, DT, rays=7)
+        follower.observe(obs)
+    return obs
+
+
+def circled_at(follower: WallFollower, pose: tuple[float, float, float], turns: float, until: float) -> None:
+    """Feed ``follower``'s circling detector 10 Hz cycles of a robot turning ``turns`` full turns
+    away from its side on the spot at ``pose`` (x m, y m, yaw deg) at a turn every 4 s, the
+    last of them at ``until`` s facing ``pose``'s yaw: the limit cycle of follow_s17."""
+    n = round(turns * 40)
+    for i in range(n, 0, -1):
+        yaw = math.radians(pose[2]) + follower.side * 2 * math.pi * i / 40
+        follower.circling.update(until - (i - 1) * DT, pose[0], pose[1], yaw)
+
+
+def test_a_follower_circling_at_a_gaps_far_corner_turns_onto_its_middle_line() -> None:
+    """Following the south wall east at 0.43 m into the 0.588 m channel under the box (0.14 m
+    off its middle line, y = 0.294), the box's corner (lateral 0.158 m) enters the corridor
+    ahead. Main turns on the spot away from the wall (+2 rad/s), and in the simulator that
+    made the limit cycle at the junction (follow_s17). A follower that is not circling still
+    does; one that has circled there for 8 s measures the gap (0.43 + 0.115 m, 4 cm under its
+    true width: the corner's echo is placed on the sonar's axis) and drives slowly onto its
+    middle line, turning toward the wall (M3 of follow_s17a, only while circling: follow_s18)."""
+    world = office_2_junction()
+    calm = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    cmd = calm.act(approached(world, calm, (1.25, 0.43, 10.0)))
+    assert not calm.circling.fired
+    assert cmd.v == 0.0 and cmd.omega == pytest.approx(2.0)  # main's turn away
+
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    circled_at(follower, (1.25, 0.43, 10.0), 2.0, until=0.3)  # consecutive with the act() at 0.4 s
+    obs = approached(world, follower, (1.25, 0.43, 10.0))
+    near = follower.nearest(obs)
+    assert near is not None and near[0] == pytest.approx(0.43, abs=0.01)
+    corner = follower._far_corner_clearance(obs)
+    assert corner == pytest.approx(0.588 - 0.43, abs=0.05)
+    assert near[0] + corner == pytest.approx(0.588, abs=0.05)
+    heading = follower._centring_heading(obs, near)
+    assert heading is not None and math.radians(-30.0) < heading < 0.0  # toward the middle line
+    cmd = follower.act(obs)
+    assert follower.circling.fired
+    assert 0.0 < cmd.v <= 0.2 and cmd.omega < 0.0  # drives on, turning toward the wall
+
+
+def office_2_east_channel() -> BoxWorld:
+    """The other junction of office_2 where Bug2 circled (results/baselines/follow_s18): the box
+    of office_2_junction (east end x = 2.956), a second box (x = 3.51..4.0, y = 0.592..1.198)
+    against the room wall x = 4.0..4.1 and the south wall y = 0: a 0.554 m gap north between the
+    boxes and a 0.592 m dead-end channel east under the second box."""
+    return BoxWorld.room((6.0, 4.0), [(1.66, 0.588, 2.956, 1.012), (3.51, 0.592, 4.0, 1.198), (4.0, 0.0, 4.1, 4.0)])
+
+
+def test_a_circling_follower_enters_a_gap_it_measures_under_the_corridors_width() -> None:
+    """At (3.18, 0.36) heading 24 deg into the east channel (true width 0.592 m) the follower
+    measures 0.351 + 0.107 = 0.458 m: under the 0.46 m corridor (radius + 5 cm a side), which M3
+    asked for, because the corner's echo sits on the sonar's axis, 5 cm inside the gap. The
+    circling follower asks only for the body with ``sweep_margin`` a side (0.40 m) and, the swept
+    body clearing, drives in toward the middle line; a follower that is not circling turns away."""
+    world, pose = office_2_east_channel(), (3.18, 0.36, 24.0)
+    calm = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    cmd = calm.act(approached(world, calm, pose))
+    assert cmd.v == 0.0 and cmd.omega == pytest.approx(2.0)
+
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    circled_at(follower, pose, 2.0, until=0.3)
+    obs = approached(world, follower, pose)
+    near = follower.nearest(obs)
+    width = near[0] + follower._far_corner_clearance(obs)
+    assert 2 * (DIFFBOT_LIKE.radius + 0.02) <= width < 2 * (DIFFBOT_LIKE.radius + 0.05)
+    assert width == pytest.approx(0.592, abs=0.15)
+    cmd = follower.act(obs)
+    assert follower.circling.fired
+    assert 0.0 < cmd.v <= 0.2 and cmd.omega < 0.0  # in, turning toward the wall
+    heading = follower._centring_heading(obs, near)
+    assert math.radians(-30.0) < heading < 0.0  # along the channel, toward its middle line
+
+
+def test_a_gaps_far_corner_the_body_would_graze_on_the_way_to_the_middle_still_turns_away() -> None:
+    """0.04 m nearer the middle and heading 5 deg, the body swept onto the middle line would
+    graze the corner's possible echo positions (:meth:`WallFollower._axis_clear`): the robot
+    turns on the spot away from the wall, as main does."""
+    world = office_2_junction()
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    circled_at(follower, (1.25, 0.39, 5.0), 2.0, until=0.3)
+    obs = approached(world, follower, (1.25, 0.39, 5.0))
+    assert math.isfinite(follower._far_corner_clearance(obs))
+    assert follower._centring_heading(obs, follower.nearest(obs)) is None
+    cmd = follower.act(obs)
+    assert follower.circling.fired
+    assert cmd.v == 0.0 and cmd.omega == pytest.approx(2.0)
+
+
+def test_a_wall_across_the_way_is_no_gaps_far_corner() -> None:
+    """A wall across the way 0.4 m ahead is heard by the front sonars of both sides: it is not a
+    far corner to centre on, and the robot turns away from it on the spot."""
+    world = BoxWorld.room((6.0, 3.0), [(2.4, 0.0, 2.6, 3.0)])
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    obs = approached(world, follower, (2.0, 0.4, 0.0))
+    assert follower._far_corner_clearance(obs) == math.inf
+    assert follower._centring_heading(obs, follower.nearest(obs)) is None
+
+
+@pytest.mark.parametrize("world, start, least_turn_deg", [
+    (passage_world((2.0, 6.0), 6.0), (2.5, PASSAGE / 2, 0.0), 150.0),  # a dead end: half a turn away
+    (BoxWorld.room((2.5, 2.5)), (1.25, 0.4, 0.0), 540.0),  # laps inside a small room: a turn away each
+])
+def test_turning_back_in_a_dead_end_or_round_a_small_room_is_not_circling(
+        world: BoxWorld, start: tuple[float, float, float], least_turn_deg: float) -> None:
+    """The follower's ordinary turns away from its side (the end of a narrow pocket, the concave
+    corners of a room it laps from inside) never make its circling detector fire: half a turn in
+    place, or full turns over metres, not 1.5 turns within 0.5 m."""
+    follower = WallFollower(RIGHT, distance=0.4, speed=0.4, front=0.45)
+    poses = drive(follower, world, start, 40.0)
+    watch = CirclingDetector(RIGHT)  # the follower's own, fed the same cycles
+    fired = [watch.update(i * DT, *pose) for i, pose in enumerate(poses[:-1])]
+    assert not any(fired) and not follower.circling.fired
+    away = np.unwrap(poses[:, 2])  # counter-clockwise = away from a wall on the right
+    assert math.degrees(away.max() - away[0]) > least_turn_deg  # it did turn away that much
