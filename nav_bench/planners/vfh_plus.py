@@ -116,7 +116,7 @@ from nav_bench.interface import Command, GridState, Observation, StuckReason, wr
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
-from nav_bench.planners.carving import SeeThroughCarving
+from nav_bench.planners.carving import UNDO_MODES, SeeThroughCarving
 from nav_bench.planners.follow import STOP, arrival_speed, limit
 
 
@@ -537,6 +537,21 @@ class VFHPlus(Planner):
               minimum=0.0, maximum=180.0),
         Param("carve_seen_through", True, "-", "build the histogram from the parts of the grid's cells the "
               "sonars have not seen through from two views (nav_bench.planners.carving); false: whole cells"),
+        Param("carve_memory_s", 10.0, "s", "how long a carved part stays carved (the two views that confirm it "
+              "still within 3 s; D* Lite: 3)", minimum=0.0),
+        Param("carve_undo", "unexplained", "-", "when an echo keeps carved parts again: off, axis (on a sonar's axis at "
+              "the range read) or unexplained (on an echo's arc none of whose parts is kept); SeeThroughCarving "
+              "undo", choices=UNDO_MODES),
+        Param("carve_body_clear", 0.0, "m", "the parts under the body are carved only while no sonar reads an "
+              "echo nearer than this (0: always; SeeThroughCarving body_clear)", minimum=0.0),
+        Param("carve_body_memory_s", 10.0, "s", "how long the body's carving of the parts under it lasts (at most "
+              "carve_memory_s; SeeThroughCarving body_memory_s)", minimum=0.0),
+        Param("roll_time_s", 0.6, "s", "the roll-on of a turn on the spot started at speed v is about v times "
+              "this (spin_probe: 18 cm from 0.3 m/s); the brake acts only where that roll meets a sure point",
+              minimum=0.0),
+        Param("brake_speed", 0.02, "m/s", "a turn on the spot starts only below this speed; faster, the robot "
+              "brakes straight first (a spot turn at speed rolls the body on along its heading); 0: never brake",
+              minimum=0.0),
     )
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
@@ -544,7 +559,9 @@ class VFHPlus(Planner):
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
         self.frame = GridFrame.from_bounds(self.grid.bounds, self.grid.cell)
-        self.carving = SeeThroughCarving(self.frame, obs.pose)
+        self.carving = SeeThroughCarving(self.frame, obs.pose, memory_s=p.carve_memory_s,
+                                         undo=p.carve_undo, body_clear=p.carve_body_clear,
+                                         body_memory_s=p.carve_body_memory_s)
         if self.carving.compiled:
             _load_compiled_code()
         self.n = max(4, round(360.0 / p.sector_deg))
@@ -556,6 +573,7 @@ class VFHPlus(Planner):
         self.blocked = False
         self.primary = np.zeros(self.n)
         self.masked = np.zeros(self.n, dtype=bool)
+        self.last_pose, self.last_t = np.asarray(obs.pose, dtype=float).copy(), obs.t
 
     def _sector(self, angle: float) -> float:
         return (angle % (2 * math.pi)) / self.alpha
@@ -577,6 +595,7 @@ class VFHPlus(Planner):
         self.binary = binary_histogram(self.primary, self.binary, p.threshold_low, p.threshold_high)
         radius_turn = abs(self.v_prev) / robot.omega_max
         phi_r, phi_l = window_turning_limits(window, bearings, obs.pose, radius_turn, r_rs, p.mask_certainty)
+        speed = self._speed(obs)
         self.masked = masked_histogram(self.binary, yaw, phi_r, phi_l)
         k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
         k_heading = self._sector(yaw)
@@ -593,7 +612,7 @@ class VFHPlus(Planner):
             if not self.blocked:
                 self.emit("blocked", obs.t)
             self.blocked, self.v_prev = True, 0.0
-            return limit(0.0, self.turn_sign * 0.5 * robot.omega_max, robot)
+            return limit(0.0, self._spot_turn(self.turn_sign * 0.5 * robot.omega_max, speed, window, yaw, robot.radius), robot)
         self.blocked = False
         self.k_prev = k
         direction = k * self.alpha
@@ -602,7 +621,7 @@ class VFHPlus(Planner):
             self.turn_sign = math.copysign(1.0, err)
         omega = 2.5 * err
         if abs(err) > math.radians(p.turn_in_place_deg):
-            v = 0.0
+            v, omega = 0.0, self._spot_turn(omega, speed, window, yaw, robot.radius)
         else:
             density = float(self.primary[round(k_heading) % self.n])
             v = v_top * (1.0 - min(density, slow) / slow)
@@ -610,6 +629,37 @@ class VFHPlus(Planner):
         cmd = limit(v, omega, robot)
         self.v_prev = cmd.v
         return cmd if math.isfinite(cmd.v) else STOP
+
+    def _speed(self, obs: Observation) -> float:
+        """The robot's speed along its heading over the last cycle, m/s (odometry; the drive's
+        acceleration limit makes it lag the commands), and remember this cycle's pose."""
+        pose = np.asarray(obs.pose, dtype=float)
+        dt = obs.t - self.last_t
+        moved = pose[:2] - self.last_pose[:2]
+        yaw = float(pose[2])
+        speed = (float(moved[0]) * math.cos(yaw) + float(moved[1]) * math.sin(yaw)) / dt if dt > 0 else 0.0
+        self.last_pose, self.last_t = pose.copy(), obs.t
+        return speed
+
+    def _spot_turn(self, omega: float, speed: float, window: ActiveWindow, yaw: float, radius: float) -> float:
+        """The turn rate of a turn on the spot, rad/s: ``omega``, or 0 (brake straight) while the
+        robot still moves faster than ``brake_speed`` m/s *and* the body rolling on along its
+        heading ``yaw`` (rad) for ``speed * roll_time_s`` m would meet a sure point of
+        ``window`` (certainty above ``mask_certainty``; ``radius`` m the body's). Why: each
+        wheel's acceleration is limited, so from speed v0 the centre keeps v0 until the outer
+        wheel reaches its turning speed: the body rolls on 6 cm from 0.1 m/s and 18 cm from
+        0.3 m/s (``results/baselines/vfh_s17/``). Braking everywhere cost gap endings: the roll's
+        arc is what carries the body onto a narrow gap's axis (``vfh_s17/lost_gap_endings.md``),
+        so the brake is kept for rolls that would touch."""
+        p = self.settings
+        if not (p.brake_speed > 0 and abs(speed) > p.brake_speed):
+            return omega
+        roll = abs(speed) * p.roll_time_s
+        c, s_ = math.cos(yaw), math.sin(yaw)
+        along = window.dx * c + window.dy * s_
+        lateral = -window.dx * s_ + window.dy * c
+        hit = (window.certainty > p.mask_certainty) & (along > 0.0) & (along < radius + roll) & (np.abs(lateral) < radius)
+        return 0.0 if bool(hit.any()) else omega
 
     def _carved_window(self, obs: Observation, xy: np.ndarray, radius: float) -> ActiveWindow:
         """The active window (``radius`` m round ``xy``) with the parts of its cells the

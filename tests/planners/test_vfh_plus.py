@@ -530,16 +530,18 @@ def test_a_cell_with_parts_seen_through_stands_as_its_kept_parts() -> None:
     np.testing.assert_allclose(hist, expected, rtol=1e-12)
 
 
-def test_the_gap_seen_through_closes_again_3_s_after_the_last_view_through_it() -> None:
+@pytest.mark.parametrize("memory_s", [3.0, 10.0])
+def test_the_gap_seen_through_closes_again_when_the_carving_memory_runs_out(memory_s: float) -> None:
     """The 0.55 m gap opened by the carving (as above), then the robot faces away from it for
     5 s (no cone looks toward it, the same view throughout, so nothing is seen through again),
     as VFH+ turns on the spot in front of a gap when the goal term picks the other valley. The
     carving of the jambs expires ``CARVE_MEMORY_S`` (3 s) after the last view that saw through
     it, and the grid closes the gap's three sectors again over threshold_high: in office_11 and
     clutter_0 the expired parts carry 37-42 % of the parts that close the way on while it is
-    closed (``results/baselines/vfh_s14/``). Keeping them longer (10 s, or 0.5 m of travel)
-    reached some of those endings but lost others (the same results folder)."""
-    planner = VFHPlus()
+    closed (``results/baselines/vfh_s14/``). VFH+'s ``carve_memory_s`` 10 (``../vfh_s16``, with
+    ``carve_undo`` unexplained: an echo nothing kept explains takes a wrong carving back) keeps
+    the gap open at t = 6.5 s; 3 s is main's former and D* Lite's memory."""
+    planner = VFHPlus(carve_memory_s=memory_s)
     xy = np.array([1.2, 1.5])
     planner.reset(observe(GAP_WORLD, np.array([1.2, 1.5, 0.0]), np.array([3.5, 1.5]), GAP_ROBOT, 0.0, 0.1),
                   np.random.default_rng(0))
@@ -551,8 +553,28 @@ def test_the_gap_seen_through_closes_again_3_s_after_the_last_view_through_it() 
     read_gap(planner, [math.pi] * 20, t0=1.6)  # facing away till t = 3.5 s: still open
     assert np.all(planner.primary[toward_gap] < p.threshold_low)
     assert not planner.binary[toward_gap].any()
-    read_gap(planner, [math.pi] * 30, t0=3.6)  # till t = 6.5 s: closed again, as the grid has it
+    read_gap(planner, [math.pi] * 30, t0=3.6)  # till t = 6.5 s: closed again after 3 s, as the grid has it
+    if memory_s > 6.5:
+        assert np.all(planner.primary[toward_gap] < p.threshold_low)
+        read_gap(planner, [math.pi] * 60, t0=6.6)  # till t = 12.5 s: closed again after 10 s
     grid_only = whole_cell_histogram(planner, xy)
     assert np.all(grid_only[toward_gap] > p.threshold_high)
     np.testing.assert_allclose(planner.primary[toward_gap], grid_only[toward_gap], rtol=1e-12)
     assert planner.binary[toward_gap].all()
+
+
+def test_a_turn_on_the_spot_brakes_straight_while_the_robot_still_rolls() -> None:
+    # goal behind the robot: a turn on the spot. At 0.3 m/s (odometry) it brakes, omega 0;
+    # below brake_speed it turns; with brake_speed 0 it turns at once
+    world, _start, _goal = open_room()
+    robot, goal = default_robot(), np.array([1.0, 2.5])
+    for brake, omegas in ((0.02, [0.0, robot.omega_max]), (0.0, [robot.omega_max, robot.omega_max])):
+        planner = VFHPlus(brake_speed=brake)
+        planner.reset(observe(world, np.array([3.0, 2.5, 0.0]), goal, robot, 0.0, 0.1),
+                      np.random.default_rng(0))
+        turns = []
+        for t, x in ((0.1, 3.03), (0.2, 3.031)):
+            cmd = planner.act(observe(world, np.array([x, 2.5, 0.0]), goal, robot, t, 0.1))
+            assert cmd.v == 0.0
+            turns.append(abs(cmd.omega))
+        assert turns == pytest.approx(omegas)
