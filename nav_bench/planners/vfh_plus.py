@@ -459,6 +459,17 @@ def choose_direction(candidates: list[float], k_target: float, k_heading: float,
     return float(candidates[costs.index(min(costs))])
 
 
+def roll_arc(length: float, sweep: float, steps: int = 8) -> np.ndarray:
+    """(steps, 2) points along the path the centre rolls on when a turn on the spot is
+    commanded at speed, in the body frame (x ahead, y left; m): ``length`` m of travel while
+    the heading swings by ``sweep`` rad (+ left), the swing growing with the square of the
+    travel (the turn rate ramps up under the wheels' acceleration limit while the centre keeps
+    its speed; ``results/baselines/vfh_s18/``). The start (0, 0) is left out."""
+    step = length / steps
+    heading = sweep * ((np.arange(steps) + 0.5) / steps) ** 2  # mid-step headings
+    return np.cumsum(np.stack([step * np.cos(heading), step * np.sin(heading)], axis=1), axis=0)
+
+
 def relax_factors(relax_max: float) -> list[float]:
     """Threshold factors 2, 4, ... up to ``relax_max`` tried in turn when no valley is open."""
     return [2.0 ** i for i in range(1, int(math.log2(relax_max) + 1e-9) + 1)]
@@ -549,6 +560,9 @@ class VFHPlus(Planner):
         Param("roll_time_s", 0.6, "s", "the roll-on of a turn on the spot started at speed v is about v times "
               "this (spin_probe: 18 cm from 0.3 m/s); the brake acts only where that roll meets a sure point",
               minimum=0.0),
+        Param("roll_sweep_deg", 75.0, "deg", "how far the heading swings during that roll-on (the turn rate "
+              "ramps up while the centre keeps its speed: 63-77 deg in 0.6 s in G6's traces); the brake tests the "
+              "arc this bends the roll into, toward the turn", minimum=0.0, maximum=180.0),
         Param("brake_speed", 0.02, "m/s", "a turn on the spot starts only below this speed; faster, the robot "
               "brakes straight first (a spot turn at speed rolls the body on along its heading); 0: never brake",
               minimum=0.0),
@@ -574,6 +588,7 @@ class VFHPlus(Planner):
         self.primary = np.zeros(self.n)
         self.masked = np.zeros(self.n, dtype=bool)
         self.last_pose, self.last_t = np.asarray(obs.pose, dtype=float).copy(), obs.t
+        self.spinning = False  # the last command was a turn on the spot (not a brake)
 
     def _sector(self, angle: float) -> float:
         return (angle % (2 * math.pi)) / self.alpha
@@ -612,7 +627,9 @@ class VFHPlus(Planner):
             if not self.blocked:
                 self.emit("blocked", obs.t)
             self.blocked, self.v_prev = True, 0.0
-            return limit(0.0, self._spot_turn(self.turn_sign * 0.5 * robot.omega_max, speed, window, yaw, robot.radius), robot)
+            omega = self._spot_turn(self.turn_sign * 0.5 * robot.omega_max, speed, window, yaw, robot.radius)
+            self.spinning = omega != 0.0
+            return limit(0.0, omega, robot)
         self.blocked = False
         self.k_prev = k
         direction = k * self.alpha
@@ -628,6 +645,7 @@ class VFHPlus(Planner):
             v = arrival_speed(d_goal, v) * max(0.0, math.cos(err))
         cmd = limit(v, omega, robot)
         self.v_prev = cmd.v
+        self.spinning = v == 0.0 and omega != 0.0
         return cmd if math.isfinite(cmd.v) else STOP
 
     def _speed(self, obs: Observation) -> float:
@@ -643,23 +661,32 @@ class VFHPlus(Planner):
 
     def _spot_turn(self, omega: float, speed: float, window: ActiveWindow, yaw: float, radius: float) -> float:
         """The turn rate of a turn on the spot, rad/s: ``omega``, or 0 (brake straight) while the
-        robot still moves faster than ``brake_speed`` m/s *and* the body rolling on along its
-        heading ``yaw`` (rad) for ``speed * roll_time_s`` m would meet a sure point of
-        ``window`` (certainty above ``mask_certainty``; ``radius`` m the body's). Why: each
-        wheel's acceleration is limited, so from speed v0 the centre keeps v0 until the outer
-        wheel reaches its turning speed: the body rolls on 6 cm from 0.1 m/s and 18 cm from
-        0.3 m/s (``results/baselines/vfh_s17/``). Braking everywhere cost gap endings: the roll's
-        arc is what carries the body onto a narrow gap's axis (``vfh_s17/lost_gap_endings.md``),
-        so the brake is kept for rolls that would touch."""
+        robot still moves faster than ``brake_speed`` m/s, has not begun turning on the spot, *and*
+        the body rolling on would meet a sure point of ``window`` (certainty above
+        ``mask_certainty``; ``radius`` m the body's, ``yaw`` rad the heading).
+
+        Why: each wheel's acceleration is limited, so from speed v0 the centre keeps v0 until the
+        outer wheel reaches its turning speed: the body rolls on 6 cm from 0.1 m/s and 18 cm from
+        0.3 m/s (``results/baselines/vfh_s17/``). The roll bends toward the turn
+        (:func:`roll_arc`: ``speed * roll_time_s`` m, the heading swinging ``roll_sweep_deg``),
+        so the brake tests that arc, for points the body would come nearer. It brakes only
+        before the turn begins: braked mid-turn, the inner wheel stops first and the outer one's
+        speed carries the body on along the turned heading, into what the turn faced
+        (``results/baselines/vfh_s18/``). Braking everywhere cost gap endings
+        (``vfh_s17/lost_gap_endings.md``), so the brake is kept for rolls that would touch."""
         p = self.settings
-        if not (p.brake_speed > 0 and abs(speed) > p.brake_speed):
+        if self.spinning or not (p.brake_speed > 0 and abs(speed) > p.brake_speed):
             return omega
-        roll = abs(speed) * p.roll_time_s
+        sure = window.certainty > p.mask_certainty
+        if not sure.any():
+            return omega
         c, s_ = math.cos(yaw), math.sin(yaw)
-        along = window.dx * c + window.dy * s_
-        lateral = -window.dx * s_ + window.dy * c
-        hit = (window.certainty > p.mask_certainty) & (along > 0.0) & (along < radius + roll) & (np.abs(lateral) < radius)
-        return 0.0 if bool(hit.any()) else omega
+        dx, dy = window.dx[sure], window.dy[sure]
+        ahead, left = dx * c + dy * s_, -dx * s_ + dy * c  # body frame, m
+        arc = roll_arc(abs(speed) * p.roll_time_s, math.copysign(math.radians(p.roll_sweep_deg), omega))
+        nearest = np.hypot(ahead[:, None] - arc[None, :, 0], left[:, None] - arc[None, :, 1]).min(axis=1)
+        meets = (nearest < radius) & (nearest < window.dist[sure])
+        return 0.0 if bool(meets.any()) else omega
 
     def _carved_window(self, obs: Observation, xy: np.ndarray, radius: float) -> ActiveWindow:
         """The active window (``radius`` m round ``xy``) with the parts of its cells the

@@ -24,6 +24,7 @@ from nav_bench.planners.vfh_plus import (
     near_sectors,
     polar_histogram,
     relax_factors,
+    roll_arc,
     select_direction,
     turning_limits,
     window_histogram,
@@ -563,18 +564,45 @@ def test_the_gap_seen_through_closes_again_when_the_carving_memory_runs_out(memo
     assert planner.binary[toward_gap].all()
 
 
-def test_a_turn_on_the_spot_brakes_straight_while_the_robot_still_rolls() -> None:
-    # goal behind the robot: a turn on the spot. At 0.3 m/s (odometry) it brakes, omega 0;
-    # below brake_speed it turns; with brake_speed 0 it turns at once
+def test_a_turn_on_the_spot_at_speed_with_nothing_near_turns_at_once() -> None:
+    # goal behind the robot, 0.3 m/s (odometry), the room's walls beyond the roll: no brake
     world, _start, _goal = open_room()
     robot, goal = default_robot(), np.array([1.0, 2.5])
-    for brake, omegas in ((0.02, [0.0, robot.omega_max]), (0.0, [robot.omega_max, robot.omega_max])):
-        planner = VFHPlus(brake_speed=brake)
-        planner.reset(observe(world, np.array([3.0, 2.5, 0.0]), goal, robot, 0.0, 0.1),
-                      np.random.default_rng(0))
-        turns = []
-        for t, x in ((0.1, 3.03), (0.2, 3.031)):
-            cmd = planner.act(observe(world, np.array([x, 2.5, 0.0]), goal, robot, t, 0.1))
-            assert cmd.v == 0.0
-            turns.append(abs(cmd.omega))
-        assert turns == pytest.approx(omegas)
+    planner = VFHPlus()
+    planner.reset(observe(world, np.array([3.0, 2.5, 0.0]), goal, robot, 0.0, 0.1), np.random.default_rng(0))
+    for t, x in ((0.1, 3.03), (0.2, 3.031)):
+        cmd = planner.act(observe(world, np.array([x, 2.5, 0.0]), goal, robot, t, 0.1))
+        assert cmd.v == 0.0
+        assert abs(cmd.omega) == pytest.approx(robot.omega_max)
+
+
+def test_the_roll_on_bends_toward_the_turn() -> None:
+    # 0.18 m of roll (0.3 m/s x 0.6 s), the heading swinging 75 deg left: it ends 0.152 m on and
+    # 0.069 m to the left (a 24 deg chord: the swing grows with the square of the travel)
+    arc = roll_arc(0.18, math.radians(75.0))
+    assert arc.shape == (8, 2)
+    np.testing.assert_allclose(arc[-1], [0.1518, 0.0694], atol=1e-4)
+    np.testing.assert_allclose(roll_arc(0.18, math.radians(-75.0))[-1], [0.1518, -0.0694], atol=1e-4)
+    np.testing.assert_allclose(roll_arc(0.18, 0.0)[-1], [0.18, 0.0], atol=1e-12)
+
+
+def test_the_brake_tests_the_arc_toward_the_turn_and_only_before_the_turn_begins() -> None:
+    # a sure point 0.30 m off at +45 deg (0.212 m to the side: a straight roll of 0.18 m along
+    # the heading passes it at 0.215 m). Turning left from 0.3 m/s, the arc comes within 0.155 m
+    # (under the 0.18 m body): brake. Turning right it stays 0.253 m off: turn. Below brake_speed,
+    # once the turn on the spot has begun, or with the point not above mask_certainty: turn.
+    world, _start, _goal = open_room()
+    robot = default_robot()
+    planner = VFHPlus()
+    planner.reset(observe(world, np.array([3.0, 2.5, 0.0]), np.array([5.0, 4.0]), robot, 0.0, 0.1),
+                  np.random.default_rng(0))
+    xy = np.array([3.0, 2.5])
+    point = xy + 0.30 * np.array([math.cos(math.radians(45.0)), math.sin(math.radians(45.0))])
+    sure = ActiveWindow.of_cells(point[None], np.array([15.0]), xy)
+    faint = ActiveWindow.of_cells(point[None], np.array([planner.settings.mask_certainty]), xy)
+    assert planner._spot_turn(2.0, 0.3, sure, 0.0, robot.radius) == 0.0
+    assert planner._spot_turn(-2.0, 0.3, sure, 0.0, robot.radius) == -2.0
+    assert planner._spot_turn(2.0, 0.01, sure, 0.0, robot.radius) == 2.0
+    assert planner._spot_turn(2.0, 0.3, faint, 0.0, robot.radius) == 2.0
+    planner.spinning = True
+    assert planner._spot_turn(2.0, 0.3, sure, 0.0, robot.radius) == 2.0
