@@ -334,13 +334,20 @@ def covered_sectors(beta: np.ndarray, gamma: np.ndarray, n_sectors: int) -> tupl
 
 def window_histogram(window: ActiveWindow, bearings: np.ndarray, n_sectors: int, r_rs: float,
                      d_max: float, b: float) -> np.ndarray:
-    """(n,) primary polar histogram H^p of the ``window`` (its cells' ``bearings`` (M,), rad)."""
+    """(n,) primary polar histogram H^p of the ``window`` (its cells' ``bearings`` (M,), rad).
+
+    A carved cell's kept parts share its magnitude (``window.weight``), except a part within
+    ``r_rs``: that is the obstacle's surface inside the safety zone, and it carries its whole
+    cell's magnitude, as the paper's cell within ``r_rs`` does over the +-90 deg it covers. A
+    share there lets a convex corner beside the body, whose cell keeps only a few parts near it
+    once its open parts stay carved, fall under the thresholds in the sectors the body would
+    graze it along (``results/baselines/vfh_s18/``)."""
     if len(window) == 0:
         return np.zeros(n_sectors)
     dist = np.maximum(window.dist, 1e-6)
     mag = window.certainty ** 2 * (1.0 + b * (d_max ** 2 - dist ** 2))
     if window.weight is not None:  # parts of cells: their share of the cell's magnitude
-        mag *= window.weight
+        mag *= np.where(dist < r_rs, 1.0, window.weight)
     gamma = np.arcsin(np.minimum(1.0, r_rs / dist))
     sector, cell = covered_sectors(bearings, gamma, n_sectors)
     # (n, M): each cell's magnitude in the sectors it covers (each pair once), 0 elsewhere;

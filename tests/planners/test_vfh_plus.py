@@ -606,3 +606,21 @@ def test_the_brake_tests_the_arc_toward_the_turn_and_only_before_the_turn_begins
     assert planner._spot_turn(2.0, 0.3, faint, 0.0, robot.radius) == 2.0
     planner.spinning = True
     assert planner._spot_turn(2.0, 0.3, sure, 0.0, robot.radius) == 2.0
+
+
+def test_a_kept_part_within_r_rs_carries_its_whole_cell() -> None:
+    # one kept part of a carved cell (its share 1/4, certainty 14) at +65 deg, as a convex
+    # corner beside the body. At 0.20 m, within r_rs (0.23 m), it covers +-90 deg with the whole
+    # cell's magnitude, 14^2 (1 + 7.11 (1.2^2 - 0.2^2)) = 2147.0, in the heading sector (0 deg)
+    # too, not its share 536.7; -30 deg is beyond its +-90. At 0.25 m it keeps its share,
+    # 0.25 x 14^2 (1 + 7.11 (1.44 - 0.0625)) = 528.9, over +-66.9 deg: the heading, not -5 deg.
+    xy = np.zeros(2)
+    for dist, heading, minus5, expected in ((0.20, 2147.0, 2147.0, 2147.0), (0.25, 528.9, 0.0, 528.9)):
+        point = dist * np.array([[math.cos(math.radians(65.0)), math.sin(math.radians(65.0))]])
+        cell = ActiveWindow.of_cells(point, np.array([14.0]), xy)
+        part = ActiveWindow(cell.x, cell.y, cell.certainty, cell.dx, cell.dy, cell.dist, weight=np.array([0.25]))
+        h = window_histogram(part, part.bearings(), N, 0.23, 1.2, 7.11)
+        assert h[0] == pytest.approx(heading, abs=0.1)
+        assert h[71] == pytest.approx(minus5, abs=0.1)
+        assert h[66] == 0.0
+        assert h.max() == pytest.approx(expected, abs=0.1)
