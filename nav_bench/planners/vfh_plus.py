@@ -595,7 +595,7 @@ class VFHPlus(Planner):
         self.primary = np.zeros(self.n)
         self.masked = np.zeros(self.n, dtype=bool)
         self.last_pose, self.last_t = np.asarray(obs.pose, dtype=float).copy(), obs.t
-        self.spinning = False  # the last command was a turn on the spot (not a brake)
+        self.spinning = 0.0  # the sign of the last command's turn on the spot (0: none, or a brake)
 
     def _sector(self, angle: float) -> float:
         return (angle % (2 * math.pi)) / self.alpha
@@ -635,7 +635,7 @@ class VFHPlus(Planner):
                 self.emit("blocked", obs.t)
             self.blocked, self.v_prev = True, 0.0
             omega = self._spot_turn(self.turn_sign * 0.5 * robot.omega_max, speed, window, yaw, robot.radius)
-            self.spinning = omega != 0.0
+            self.spinning = math.copysign(1.0, omega) if omega != 0.0 else 0.0
             return limit(0.0, omega, robot)
         self.blocked = False
         self.k_prev = k
@@ -652,7 +652,7 @@ class VFHPlus(Planner):
             v = arrival_speed(d_goal, v) * max(0.0, math.cos(err))
         cmd = limit(v, omega, robot)
         self.v_prev = cmd.v
-        self.spinning = v == 0.0 and omega != 0.0
+        self.spinning = math.copysign(1.0, omega) if v == 0.0 and omega != 0.0 else 0.0
         return cmd if math.isfinite(cmd.v) else STOP
 
     def _speed(self, obs: Observation) -> float:
@@ -668,7 +668,8 @@ class VFHPlus(Planner):
 
     def _spot_turn(self, omega: float, speed: float, window: ActiveWindow, yaw: float, radius: float) -> float:
         """The turn rate of a turn on the spot, rad/s: ``omega``, or 0 (brake straight) while the
-        robot still moves faster than ``brake_speed`` m/s, has not begun turning on the spot, *and*
+        robot still moves faster than ``brake_speed`` m/s, has not begun this turn on the spot
+        (the last command turned on the spot the same way), *and*
         the body rolling on would meet a sure point of ``window`` (certainty above
         ``mask_certainty``; ``radius`` m the body's, ``yaw`` rad the heading).
 
@@ -679,10 +680,11 @@ class VFHPlus(Planner):
         so the brake tests that arc, for points the body would come nearer. It brakes only
         before the turn begins: braked mid-turn, the inner wheel stops first and the outer one's
         speed carries the body on along the turned heading, into what the turn faced
-        (``results/baselines/vfh_s18/``). Braking everywhere cost gap endings
+        (``results/baselines/vfh_s18/``). A turn the other way is a new turn: the centre
+        still rolls on, now bending the other way. Braking everywhere cost gap endings
         (``vfh_s17/lost_gap_endings.md``), so the brake is kept for rolls that would touch."""
         p = self.settings
-        if self.spinning or not (p.brake_speed > 0 and abs(speed) > p.brake_speed):
+        if self.spinning * omega > 0 or not (p.brake_speed > 0 and abs(speed) > p.brake_speed):
             return omega
         sure = window.certainty > p.mask_certainty
         if not sure.any():

@@ -604,8 +604,10 @@ def test_the_brake_tests_the_arc_toward_the_turn_and_only_before_the_turn_begins
     assert planner._spot_turn(-2.0, 0.3, sure, 0.0, robot.radius) == -2.0
     assert planner._spot_turn(2.0, 0.01, sure, 0.0, robot.radius) == 2.0
     assert planner._spot_turn(2.0, 0.3, faint, 0.0, robot.radius) == 2.0
-    planner.spinning = True
+    planner.spinning = 1.0  # a left turn on the spot under way goes on; a right one is a new turn
     assert planner._spot_turn(2.0, 0.3, sure, 0.0, robot.radius) == 2.0
+    planner.spinning = -1.0
+    assert planner._spot_turn(2.0, 0.3, sure, 0.0, robot.radius) == 0.0
 
 
 def test_a_kept_part_within_r_rs_carries_its_whole_cell() -> None:
