@@ -590,7 +590,8 @@ def test_the_brake_tests_the_arc_toward_the_turn_and_only_before_the_turn_begins
     # a sure point 0.30 m off at +45 deg (0.212 m to the side: a straight roll of 0.18 m along
     # the heading passes it at 0.215 m). Turning left from 0.3 m/s, the arc comes within 0.155 m
     # (under the 0.18 m body): brake. Turning right it stays 0.253 m off: turn. Below brake_speed,
-    # once the turn on the spot has begun, or with the point not above mask_certainty: turn.
+    # once a left turn on the spot has begun (not a right one), or with the point not above
+    # mask_certainty: turn.
     world, _start, _goal = open_room()
     robot = default_robot()
     planner = VFHPlus()
