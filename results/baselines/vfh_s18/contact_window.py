@@ -23,6 +23,8 @@ import sys
 import numpy as np
 
 sys.path.insert(0, "results/baselines/vfh_s12")
+sys.path.insert(0, "results/baselines/vfh_s18")
+from replay_common import RADIUS, CarveLog, touch_point, true_to_odom
 from trace_replay import load
 
 from nav_bench.planners.footprint import cell_parts
@@ -30,27 +32,8 @@ from nav_bench.planners.vfh_plus import read_window, window_box, window_histogra
 from nav_bench.world.geometry import clearance, static_geometry
 from nav_bench.world.load import world_from_data
 
-RADIUS = 0.18  # m
 MAIN_MEMORY_S = 3.0  # s, main's carving memory
 NEAR_M = 0.10  # m: parts and cells this near the touching point
-
-
-def touch_point(g, xy, yaw):
-    """The body's point nearest an obstacle (2,), m, and its bearing from the heading, deg
-    (as ``vfh_s16b/contact_carving.py``)."""
-    ang = np.radians(np.arange(0, 360, 5))
-    pts = xy + (RADIUS + 0.01) * np.stack([np.cos(yaw + ang), np.sin(yaw + ang)], 1)
-    j = int(np.argmin(clearance(g, pts)))
-    return xy + RADIUS * np.array([math.cos(yaw + ang[j]), math.sin(yaw + ang[j])]), \
-        (math.degrees(ang[j]) + 180) % 360 - 180
-
-
-def to_odom(point, odom, true):
-    """A true world point (2,) in the odometry frame of one cycle (inverse of ``to_true``)."""
-    a = float(odom[2] - true[2])
-    c, s = math.cos(a), math.sin(a)
-    d = point - true[:2]
-    return np.array([c * d[0] - s * d[1], s * d[0] + c * d[1]]) + odom[:2]
 
 
 def histogram_with(p, obs, kept_before):
@@ -89,8 +72,7 @@ def main():
             looks.setdefault(max(0, j - round(s / 0.1)), j)
     f = p.frame
     shape = p.carving.carved_t.shape
-    carve_i = np.full(shape, -1, dtype=np.int32)
-    by_body = np.zeros(shape, dtype=bool)
+    log = CarveLog(p)
     row = rp.meta["row"]
     print(f"{row['world']} seed {row.get('seed')} {row['outcome']} contacts {row['collisions']}")
     for i in range(len(rp.t)):
@@ -98,21 +80,12 @@ def main():
             break
         obs = rp.obs(i)
         cmd = p.act(obs)
-        now = np.float32(obs.t)
-        new = np.argwhere((p.carving.carved_t == now).any(axis=2))
-        if len(new):
-            cen = np.stack([f.xmin + (new[:, 1] + 0.5) * f.cell, f.ymin + (new[:, 0] + 0.5) * f.cell], 1)
-            parts = cell_parts(cen, f.cell)
-            hit = p.carving.carved_t[new[:, 0], new[:, 1]] == now
-            body = np.hypot(parts[..., 0] - obs.pose[0], parts[..., 1] - obs.pose[1]) <= RADIUS
-            for k, (r, c) in enumerate(new):
-                carve_i[r, c][hit[k]] = i
-                by_body[r, c][hit[k]] = body[k][hit[k]]
+        log.note(i, obs)
         if i not in looks:
             continue
         j = looks[i]
         tp, side = touch_point(g, rp.true[j, :2].astype(float), float(rp.true[j, 2]))
-        tpo = to_odom(tp, rp.odom[i].astype(float), rp.true[i].astype(float))
+        tpo = true_to_odom(tp, rp.odom[i].astype(float), rp.true[i].astype(float))
         od = rp.odom[i].astype(float)
         yaw = float(od[2])
         bearing = math.degrees(math.atan2(tpo[1] - od[1], tpo[0] - od[0]) - yaw)
@@ -134,12 +107,12 @@ def main():
             ct = p.carving.carved_t[r, c]
             for q in np.flatnonzero(close):
                 if ct[q] >= obs.t - p.carving.memory_s:
-                    ci = int(carve_i[r, c, q])
+                    ci = int(log.cycle[r, c, q])
                     pose_c = rp.odom[ci].astype(float) if ci >= 0 else od
                     d_c = float(np.hypot(*(parts[q] - pose_c[:2])))
                     b_c = (math.degrees(math.atan2(parts[q, 1] - pose_c[1], parts[q, 0] - pose_c[0]) - pose_c[2])
                            + 180) % 360 - 180
-                    carved.append((obs.t - float(ct[q]), "body" if by_body[r, c, q] else "view", d_c, b_c,
+                    carved.append((obs.t - float(ct[q]), "body" if log.body[r, c, q] else "view", d_c, b_c,
                                    float(rp.t[ci]) if ci >= 0 else float("nan")))
                 else:
                     kept_n += 1

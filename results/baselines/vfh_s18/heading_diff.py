@@ -13,21 +13,14 @@ import sys
 import numpy as np
 
 sys.path.insert(0, "results/baselines/vfh_s12")
+sys.path.insert(0, "results/baselines/vfh_s18")
+from replay_common import RADIUS, CarveLog, odom_to_true
 from trace_replay import load
 
 from nav_bench.planners.footprint import cell_parts
 from nav_bench.planners.vfh_plus import ActiveWindow, read_window, window_box, window_histogram
 from nav_bench.world.geometry import clearance, static_geometry
 from nav_bench.world.load import world_from_data
-
-RADIUS = 0.18  # m
-
-
-def to_true(points, odom, true):
-    a = float(true[2] - odom[2])
-    c, s = math.cos(a), math.sin(a)
-    d = points - odom[:2]
-    return np.stack([c * d[:, 0] - s * d[:, 1], s * d[:, 0] + c * d[:, 1]], 1) + true[:2]
 
 
 def cell_magnitudes(p, window, kept, parts, xy, k):
@@ -50,23 +43,13 @@ def main():
     p = rp.planner
     f = p.frame
     g = static_geometry(world_from_data(rp.meta["world"]))
-    carve_i = np.full(p.carving.carved_t.shape, -1, dtype=np.int32)
-    by_body = np.zeros(p.carving.carved_t.shape, dtype=bool)
+    log = CarveLog(p)
     for i in range(len(rp.t)):
         if not times:
             break
         obs = rp.obs(i)
         p.act(obs)
-        now = np.float32(obs.t)
-        new = np.argwhere((p.carving.carved_t == now).any(axis=2))
-        if len(new):
-            cen = np.stack([f.xmin + (new[:, 1] + 0.5) * f.cell, f.ymin + (new[:, 0] + 0.5) * f.cell], 1)
-            parts = cell_parts(cen, f.cell)
-            hit = p.carving.carved_t[new[:, 0], new[:, 1]] == now
-            body = np.hypot(parts[..., 0] - obs.pose[0], parts[..., 1] - obs.pose[1]) <= RADIUS
-            for q, (r, c) in enumerate(new):
-                carve_i[r, c][hit[q]] = i
-                by_body[r, c][hit[q]] = body[q][hit[q]]
+        log.note(i, obs)
         if obs.t + 1e-6 < times[0]:
             continue
         times.pop(0)
@@ -91,10 +74,10 @@ def main():
             d = float(window.dist[m])
             bear = (math.degrees(math.atan2(window.dy[m], window.dx[m]) - yaw) + 180) % 360 - 180
             extra = ~kept_main[m] ^ ~kept_now[m]  # carved now, kept under 3 s
-            ci = carve_i[window.rows[m], window.cols[m]][extra]
-            bb = by_body[window.rows[m], window.cols[m]][extra]
+            ci = log.cycle[window.rows[m], window.cols[m]][extra]
+            bb = log.body[window.rows[m], window.cols[m]][extra]
             ages = obs.t - ct[m][extra]
-            true_now = to_true(parts[m][extra], rp.odom[i].astype(float), rp.true[i].astype(float))
+            true_now = odom_to_true(parts[m][extra], rp.odom[i].astype(float), rp.true[i].astype(float))
             inside = clearance(g, true_now) < -0.005
             srcs = []
             for c0 in sorted(set(ci.tolist())):
