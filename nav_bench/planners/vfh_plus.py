@@ -571,7 +571,7 @@ class VFHPlus(Planner):
               "ramps up while the centre keeps its speed: 63-77 deg in 0.6 s in G6's traces); the brake tests the "
               "arc this bends the roll into, toward the turn", minimum=0.0, maximum=180.0),
         Param("brake_speed", 0.02, "m/s", "a turn on the spot starts only below this speed; faster, the robot "
-              "brakes straight first (a spot turn at speed rolls the body on along its heading); 0: never brake",
+              "brakes straight first where the roll-on would meet a sure point (_spot_turn); 0: never brake",
               minimum=0.0),
     )
 
@@ -669,9 +669,9 @@ class VFHPlus(Planner):
     def _spot_turn(self, omega: float, speed: float, window: ActiveWindow, yaw: float, radius: float) -> float:
         """The turn rate of a turn on the spot, rad/s: ``omega``, or 0 (brake straight) while the
         robot still moves faster than ``brake_speed`` m/s, has not begun this turn on the spot
-        (the last command turned on the spot the same way), *and*
-        the body rolling on would meet a sure point of ``window`` (certainty above
-        ``mask_certainty``; ``radius`` m the body's, ``yaw`` rad the heading).
+        (the last command turned on the spot the same way), *and* the body rolling on would
+        meet a sure point of ``window`` (certainty above ``mask_certainty``; ``radius`` m the
+        body's, ``yaw`` rad the heading).
 
         Why: each wheel's acceleration is limited, so from speed v0 the centre keeps v0 until the
         outer wheel reaches its turning speed: the body rolls on 6 cm from 0.1 m/s and 18 cm from
