@@ -93,25 +93,30 @@ def carve_cells(carved_t: np.ndarray, seen_t: np.ndarray, seen_view: np.ndarray,
     """``SeeThroughCarving.update`` after the view is chosen: ``_forget`` in the box
     (``occupied_box`` from row ``a0``, column ``b0``), then, for the cells (``rows``, ``cols``
     (M,), distinct): note them, fill ``centres`` (M, 2) and ``parts`` (M, PARTS, 2) (m), update
-    the records of the parts seen through (confirmed from another view within the memory: carved
-    now) or under the body, fill ``kept`` (M, PARTS): carved before the memory's limit, and
-    ``kept_xy[:K]`` with the kept parts' centres, cell by cell; returns K.
+    the records of the parts seen through (confirmed from another view within the confirmation
+    limit: carved now), on an echo's axis point (kept again, when asked) or under the body (when
+    asked), fill ``kept`` (M, PARTS): carved before the memory's limit, and ``kept_xy[:K]`` with
+    the kept parts' centres, cell by cell; returns K.
 
     ``carved_t``, ``seen_t``, ``seen_view`` (H, W, PARTS), ``noted`` (H, W): the records.
     ``offsets`` (PARTS, 2): the parts' offsets from their cell's centre, m. The sonars:
     ``sonar_offsets`` (S, 2) m, ``sonar_angles`` (S,) rad, this reading's ``ranges`` (S,) m.
     ``setup`` = (grid xmin, ymin, cell, max range, cos of half the cone, half the cone, a part's
     centre-to-corner, reach: centre to the farthest part centre, the robot's radius, the reach of
-    the under-the-body cell test), m and rad. ``reading`` = (x, y, yaw, cos yaw, sin yaw, t, the
-    memory's limit), m, rad, s: the limit as the records are compared with it, ``view`` its view."""
+    the under-the-body cell test, the axis tolerances across and along, the undo's reach), m and
+    rad. ``reading`` = (x, y, yaw, cos yaw, sin yaw, t, the confirmation's limit, the memory's
+    limit, 1.0 if the body carves, the undo mode: its index in ``carving.UNDO_MODES``, the time
+    the body's carving is recorded at, that time as the records are compared with it), m, rad,
+    s: the limits as the records are compared with them; ``view`` its view."""
     _forget(carved_t, seen_t, seen_view, noted, a0, b0, occupied_box)
     mounts = _mounts(reading, sonar_offsets, sonar_angles, ranges, setup[3])
     xmin, ymin, cell = setup[0], setup[1], setup[2]
-    x, y, t, limit = reading[0], reading[1], reading[5], reading[6]
+    x, y, t, limit, keep_limit = reading[0], reading[1], reading[5], reading[6], reading[7]
+    body, axis, unexplained = reading[8] > 0.0, reading[9] == 1.0, reading[9] == 2.0
     radius, under_reach = setup[8], setup[9]
     n_parts = offsets.shape[0]
-    seen = np.zeros(n_parts, dtype=np.bool_)
-    k = 0
+    seen_all = np.zeros((rows.shape[0], n_parts), dtype=np.bool_)
+    echoed = np.zeros(n_parts, dtype=np.bool_)
     for m in range(rows.shape[0]):
         r, c = rows[m], cols[m]
         cx = xmin + (float(c) + 0.5) * cell
@@ -121,12 +126,19 @@ def carve_cells(carved_t: np.ndarray, seen_t: np.ndarray, seen_view: np.ndarray,
             parts[m, p, 0] = cx + offsets[p, 0]
             parts[m, p, 1] = cy + offsets[p, 1]
         noted[r, c] = True
+        seen = seen_all[m]
         any_seen = _seen_parts(parts[m], cx, cy, mounts, setup, seen)
-        if any_seen or math.hypot(cx - x, cy - y) <= under_reach:
-            _note_cell(carved_t[r, c], seen_t[r, c], seen_view[r, c], parts[m], seen, x, y, radius, view,
-                       t, limit)
+        any_echoed = _axis_parts(parts[m], mounts, setup, echoed) if axis else False
+        if any_seen or any_echoed or (body and math.hypot(cx - x, cy - y) <= under_reach):
+            _note_cell(carved_t[r, c], seen_t[r, c], seen_view[r, c], parts[m], seen, echoed, x, y,
+                       radius if body else -1.0, view, t, limit, reading[10], reading[11])
+    if unexplained:
+        _undo_unexplained(carved_t, rows, cols, parts, seen_all, mounts, setup, keep_limit)
+    k = 0
+    for m in range(rows.shape[0]):
+        r, c = rows[m], cols[m]
         for p in range(n_parts):
-            kept[m, p] = carved_t[r, c, p] < limit
+            kept[m, p] = carved_t[r, c, p] < keep_limit
             if kept[m, p]:
                 kept_xy[k, 0], kept_xy[k, 1] = parts[m, p, 0], parts[m, p, 1]
                 k += 1
@@ -160,21 +172,89 @@ def _seen_parts(pts: np.ndarray, cx: float, cy: float, mounts: np.ndarray, setup
 
 
 @_kernel()
+def _axis_parts(pts: np.ndarray, mounts: np.ndarray, setup: np.ndarray, echoed: np.ndarray) -> bool:
+    """Fill ``echoed`` (PARTS,) with which of one cell's parts (``pts`` (PARTS, 2), m) lie on a
+    sonar's echo axis point (``carving.echo_axis_parts``: a sonar with an echo, the part within
+    ``setup``'s axis tolerances of the point on the axis at the range read); True if any."""
+    max_range, across_tol, along_tol = setup[3], setup[10], setup[11]
+    any_echoed = False
+    echoed[:] = False
+    for s in range(mounts.shape[1]):
+        mx, my, r = mounts[0, s], mounts[1, s], mounts[2, s]
+        if not r < max_range:
+            continue
+        ax, ay = mounts[4, s], mounts[5, s]
+        for p in range(pts.shape[0]):
+            dx = pts[p, 0] - mx
+            dy = pts[p, 1] - my
+            if abs(dx * ay - dy * ax) <= across_tol and abs(dx * ax + dy * ay - r) <= along_tol:
+                echoed[p] = True
+                any_echoed = True
+    return any_echoed
+
+
+@_kernel()
+def _on_arc(px: float, py: float, mounts: np.ndarray, s: int, cos_half: float, along_tol: float) -> bool:
+    """Whether the part at (``px``, ``py``) (m) lies inside sonar ``s``'s cone within
+    ``along_tol`` (m) of its range (``carving.unexplained_echo_parts``' arc test)."""
+    dx = px - mounts[0, s]
+    dy = py - mounts[1, s]
+    d = math.hypot(dx, dy)
+    return dx * mounts[4, s] + dy * mounts[5, s] >= d * cos_half and abs(d - mounts[2, s]) <= along_tol
+
+
+@_kernel()
+def _undo_unexplained(carved_t: np.ndarray, rows: np.ndarray, cols: np.ndarray, parts: np.ndarray,
+                      seen_all: np.ndarray, mounts: np.ndarray, setup: np.ndarray, keep_limit: float) -> None:
+    """``carving.unexplained_echo_parts`` and its undo: for each sonar with an echo up to the
+    undo's reach whose arc holds parts of the cells (``rows``, ``cols``; ``parts`` (M, PARTS, 2)
+    m) but no kept one (carved before ``keep_limit``, s), every part on the arc not seen through
+    this reading (``seen_all`` (M, PARTS)) is kept again (``-inf``). Every sonar is judged on
+    the records before any undo."""
+    max_range, cos_half, along_tol, reach = setup[3], setup[4], setup[11], setup[12]
+    n_sonars = mounts.shape[1]
+    unexplained = np.zeros(n_sonars, dtype=np.bool_)
+    for s in range(n_sonars):
+        r = mounts[2, s]
+        if not (r < max_range and r <= reach):
+            continue
+        on_any, explained = False, False
+        for m in range(rows.shape[0]):
+            for p in range(parts.shape[1]):
+                if _on_arc(parts[m, p, 0], parts[m, p, 1], mounts, s, cos_half, along_tol):
+                    on_any = True
+                    if carved_t[rows[m], cols[m], p] < keep_limit:
+                        explained = True
+        unexplained[s] = on_any and not explained
+    for s in range(n_sonars):
+        if not unexplained[s]:
+            continue
+        for m in range(rows.shape[0]):
+            for p in range(parts.shape[1]):
+                if not seen_all[m, p] and _on_arc(parts[m, p, 0], parts[m, p, 1], mounts, s, cos_half, along_tol):
+                    carved_t[rows[m], cols[m], p] = -np.inf
+
+
+@_kernel()
 def _note_cell(carved: np.ndarray, seen_at: np.ndarray, views: np.ndarray, pts: np.ndarray,
-               seen: np.ndarray, x: float, y: float, radius: float, view: int, t: float,
-               limit: float) -> None:
+               seen: np.ndarray, echoed: np.ndarray, x: float, y: float, radius: float, view: int,
+               t: float, limit: float, body_t: float, body_cmp: float) -> None:
     """``_note`` for one cell's records (PARTS,): a part seen through is carved if a reading from
     another view saw through it since ``limit``; it is then seen at ``t`` from ``view``; a part
-    within ``radius`` of the body's centre (``x``, ``y``) is carved (``x``, ``y``, ``radius`` m;
-    ``t``, ``limit`` s)."""
+    on an echo's axis point (``echoed``) and not seen through is kept again (``-inf``); a part
+    within ``radius`` of the body's centre (``x``, ``y``) is carved at ``body_t`` if its record
+    is earlier (compared with ``body_cmp``) (``x``, ``y``, ``radius`` m, negative: no body
+    carving; ``t``, ``limit``, ``body_t``, ``body_cmp`` s)."""
     for p in range(carved.shape[0]):
         if seen[p]:
             if views[p] >= 0 and views[p] != view and seen_at[p] >= limit:
                 carved[p] = t
             seen_at[p] = t
             views[p] = view
-        if math.hypot(pts[p, 0] - x, pts[p, 1] - y) <= radius:
-            carved[p] = t
+        elif echoed[p]:
+            carved[p] = -np.inf
+        if math.hypot(pts[p, 0] - x, pts[p, 1] - y) <= radius and carved[p] < body_cmp:
+            carved[p] = body_t
 
 
 # -- the clearance against the kept parts (footprint.PointObstacles) -----------------------------

@@ -116,7 +116,7 @@ from nav_bench.interface import Command, GridState, Observation, StuckReason, wr
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
-from nav_bench.planners.carving import SeeThroughCarving
+from nav_bench.planners.carving import UNDO_MODES, SeeThroughCarving
 from nav_bench.planners.follow import STOP, arrival_speed, limit
 
 
@@ -334,13 +334,20 @@ def covered_sectors(beta: np.ndarray, gamma: np.ndarray, n_sectors: int) -> tupl
 
 def window_histogram(window: ActiveWindow, bearings: np.ndarray, n_sectors: int, r_rs: float,
                      d_max: float, b: float) -> np.ndarray:
-    """(n,) primary polar histogram H^p of the ``window`` (its cells' ``bearings`` (M,), rad)."""
+    """(n,) primary polar histogram H^p of the ``window`` (its cells' ``bearings`` (M,), rad).
+
+    A carved cell's kept parts share its magnitude (``window.weight``), except a part within
+    ``r_rs``: that is the obstacle's surface inside the safety zone, and it carries its whole
+    cell's magnitude, as the paper's cell within ``r_rs`` does over the +-90 deg it covers. A
+    share there lets a convex corner beside the body, whose cell keeps only a few parts near it
+    once its open parts stay carved, fall under the thresholds in the sectors the body would
+    graze it along (``results/baselines/vfh_s18/``)."""
     if len(window) == 0:
         return np.zeros(n_sectors)
     dist = np.maximum(window.dist, 1e-6)
     mag = window.certainty ** 2 * (1.0 + b * (d_max ** 2 - dist ** 2))
     if window.weight is not None:  # parts of cells: their share of the cell's magnitude
-        mag *= window.weight
+        mag *= np.where(dist < r_rs, 1.0, window.weight)
     gamma = np.arcsin(np.minimum(1.0, r_rs / dist))
     sector, cell = covered_sectors(bearings, gamma, n_sectors)
     # (n, M): each cell's magnitude in the sectors it covers (each pair once), 0 elsewhere;
@@ -459,6 +466,17 @@ def choose_direction(candidates: list[float], k_target: float, k_heading: float,
     return float(candidates[costs.index(min(costs))])
 
 
+def roll_arc(length: float, sweep: float, steps: int = 8) -> np.ndarray:
+    """(steps, 2) points along the path the centre rolls on when a turn on the spot is
+    commanded at speed, in the body frame (x ahead, y left; m): ``length`` m of travel while
+    the heading swings by ``sweep`` rad (+ left), the swing growing with the square of the
+    travel (the turn rate ramps up under the wheels' acceleration limit while the centre keeps
+    its speed; ``results/baselines/vfh_s18/``). The start (0, 0) is left out."""
+    step = length / steps
+    heading = sweep * ((np.arange(steps) + 0.5) / steps) ** 2  # mid-step headings
+    return np.cumsum(np.stack([step * np.cos(heading), step * np.sin(heading)], axis=1), axis=0)
+
+
 def relax_factors(relax_max: float) -> list[float]:
     """Threshold factors 2, 4, ... up to ``relax_max`` tried in turn when no valley is open."""
     return [2.0 ** i for i in range(1, int(math.log2(relax_max) + 1e-9) + 1)]
@@ -537,6 +555,24 @@ class VFHPlus(Planner):
               minimum=0.0, maximum=180.0),
         Param("carve_seen_through", True, "-", "build the histogram from the parts of the grid's cells the "
               "sonars have not seen through from two views (nav_bench.planners.carving); false: whole cells"),
+        Param("carve_memory_s", 10.0, "s", "how long a carved part stays carved (the two views that confirm it "
+              "still within 3 s; D* Lite: 3)", minimum=0.0),
+        Param("carve_undo", "unexplained", "-", "when an echo keeps carved parts again: off, axis (on a sonar's axis at "
+              "the range read) or unexplained (on an echo's arc none of whose parts is kept); SeeThroughCarving "
+              "undo", choices=UNDO_MODES),
+        Param("carve_body_clear", 0.0, "m", "the parts under the body are carved only while no sonar reads an "
+              "echo nearer than this (0: always; SeeThroughCarving body_clear)", minimum=0.0),
+        Param("carve_body_memory_s", 10.0, "s", "how long the body's carving of the parts under it lasts (at most "
+              "carve_memory_s; SeeThroughCarving body_memory_s)", minimum=0.0),
+        Param("roll_time_s", 0.6, "s", "the roll-on of a turn on the spot started at speed v is about v times "
+              "this (spin_probe: 18 cm from 0.3 m/s); the brake acts only where that roll meets a sure point",
+              minimum=0.0),
+        Param("roll_sweep_deg", 75.0, "deg", "how far the heading swings during that roll-on (the turn rate "
+              "ramps up while the centre keeps its speed: 63-77 deg in 0.6 s in G6's traces); the brake tests the "
+              "arc this bends the roll into, toward the turn", minimum=0.0, maximum=180.0),
+        Param("brake_speed", 0.02, "m/s", "a turn on the spot starts only below this speed; faster, the robot "
+              "brakes straight first where the roll-on would meet a sure point (_spot_turn); 0: never brake",
+              minimum=0.0),
     )
 
     def reset(self, obs: Observation, rng: np.random.Generator) -> None:
@@ -544,7 +580,9 @@ class VFHPlus(Planner):
         p = self.settings
         self.grid = OccupancyGrid(obs.bounds, cell=p.cell)
         self.frame = GridFrame.from_bounds(self.grid.bounds, self.grid.cell)
-        self.carving = SeeThroughCarving(self.frame, obs.pose)
+        self.carving = SeeThroughCarving(self.frame, obs.pose, memory_s=p.carve_memory_s,
+                                         undo=p.carve_undo, body_clear=p.carve_body_clear,
+                                         body_memory_s=p.carve_body_memory_s)
         if self.carving.compiled:
             _load_compiled_code()
         self.n = max(4, round(360.0 / p.sector_deg))
@@ -556,6 +594,8 @@ class VFHPlus(Planner):
         self.blocked = False
         self.primary = np.zeros(self.n)
         self.masked = np.zeros(self.n, dtype=bool)
+        self.last_pose, self.last_t = np.asarray(obs.pose, dtype=float).copy(), obs.t
+        self.spinning = 0.0  # the sign of the last command's turn on the spot (0: none, or a brake)
 
     def _sector(self, angle: float) -> float:
         return (angle % (2 * math.pi)) / self.alpha
@@ -577,6 +617,7 @@ class VFHPlus(Planner):
         self.binary = binary_histogram(self.primary, self.binary, p.threshold_low, p.threshold_high)
         radius_turn = abs(self.v_prev) / robot.omega_max
         phi_r, phi_l = window_turning_limits(window, bearings, obs.pose, radius_turn, r_rs, p.mask_certainty)
+        speed = self._speed(obs)
         self.masked = masked_histogram(self.binary, yaw, phi_r, phi_l)
         k_target = self._sector(math.atan2(goal[1] - xy[1], goal[0] - xy[0]))
         k_heading = self._sector(yaw)
@@ -593,7 +634,9 @@ class VFHPlus(Planner):
             if not self.blocked:
                 self.emit("blocked", obs.t)
             self.blocked, self.v_prev = True, 0.0
-            return limit(0.0, self.turn_sign * 0.5 * robot.omega_max, robot)
+            omega = self._spot_turn(self.turn_sign * 0.5 * robot.omega_max, speed, window, yaw, robot.radius)
+            self.spinning = math.copysign(1.0, omega) if omega != 0.0 else 0.0
+            return limit(0.0, omega, robot)
         self.blocked = False
         self.k_prev = k
         direction = k * self.alpha
@@ -602,14 +645,57 @@ class VFHPlus(Planner):
             self.turn_sign = math.copysign(1.0, err)
         omega = 2.5 * err
         if abs(err) > math.radians(p.turn_in_place_deg):
-            v = 0.0
+            v, omega = 0.0, self._spot_turn(omega, speed, window, yaw, robot.radius)
         else:
             density = float(self.primary[round(k_heading) % self.n])
             v = v_top * (1.0 - min(density, slow) / slow)
             v = arrival_speed(d_goal, v) * max(0.0, math.cos(err))
         cmd = limit(v, omega, robot)
         self.v_prev = cmd.v
+        self.spinning = math.copysign(1.0, omega) if v == 0.0 and omega != 0.0 else 0.0
         return cmd if math.isfinite(cmd.v) else STOP
+
+    def _speed(self, obs: Observation) -> float:
+        """The robot's speed along its heading over the last cycle, m/s (odometry; the drive's
+        acceleration limit makes it lag the commands), and remember this cycle's pose."""
+        pose = np.asarray(obs.pose, dtype=float)
+        dt = obs.t - self.last_t
+        moved = pose[:2] - self.last_pose[:2]
+        yaw = float(pose[2])
+        speed = (float(moved[0]) * math.cos(yaw) + float(moved[1]) * math.sin(yaw)) / dt if dt > 0 else 0.0
+        self.last_pose, self.last_t = pose.copy(), obs.t
+        return speed
+
+    def _spot_turn(self, omega: float, speed: float, window: ActiveWindow, yaw: float, radius: float) -> float:
+        """The turn rate of a turn on the spot, rad/s: ``omega``, or 0 (brake straight) while the
+        robot still moves faster than ``brake_speed`` m/s, has not begun this turn on the spot
+        (the last command turned on the spot the same way), *and* the body rolling on would
+        meet a sure point of ``window`` (certainty above ``mask_certainty``; ``radius`` m the
+        body's, ``yaw`` rad the heading).
+
+        Why: each wheel's acceleration is limited, so from speed v0 the centre keeps v0 until the
+        outer wheel reaches its turning speed: the body rolls on 6 cm from 0.1 m/s and 18 cm from
+        0.3 m/s (``results/baselines/vfh_s17/``). The roll bends toward the turn
+        (:func:`roll_arc`: ``speed * roll_time_s`` m, the heading swinging ``roll_sweep_deg``),
+        so the brake tests that arc, for points the body would come nearer. It brakes only
+        before the turn begins: braked mid-turn, the inner wheel stops first and the outer one's
+        speed carries the body on along the turned heading, into what the turn faced
+        (``results/baselines/vfh_s18/``). A turn the other way is a new turn: the centre
+        still rolls on, now bending the other way. Braking everywhere cost gap endings
+        (``vfh_s17/lost_gap_endings.md``), so the brake is kept for rolls that would touch."""
+        p = self.settings
+        if self.spinning * omega > 0 or not (p.brake_speed > 0 and abs(speed) > p.brake_speed):
+            return omega
+        sure = window.certainty > p.mask_certainty
+        if not sure.any():
+            return omega
+        c, s_ = math.cos(yaw), math.sin(yaw)
+        dx, dy = window.dx[sure], window.dy[sure]
+        ahead, left = dx * c + dy * s_, -dx * s_ + dy * c  # body frame, m
+        arc = roll_arc(abs(speed) * p.roll_time_s, math.copysign(math.radians(p.roll_sweep_deg), omega))
+        nearest = np.hypot(ahead[:, None] - arc[None, :, 0], left[:, None] - arc[None, :, 1]).min(axis=1)
+        meets = (nearest < radius) & (nearest < window.dist[sure])
+        return 0.0 if bool(meets.any()) else omega
 
     def _carved_window(self, obs: Observation, xy: np.ndarray, radius: float) -> ActiveWindow:
         """The active window (``radius`` m round ``xy``) with the parts of its cells the

@@ -9,9 +9,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
-from tests.planners.test_carving_undo import TOWARD_GAP, open_the_gap_then_face_it
 
 from nav_bench.planners.footprint import cell_parts
+from tests.planners.test_carving_undo import TOWARD_GAP, open_the_gap_then_face_it
 
 BOXES = [(2.0, 0.5, 2.3, 1.225), (2.0, 1.775, 2.3, 2.5)]
 
