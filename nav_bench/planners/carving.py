@@ -23,6 +23,7 @@ import functools
 import math
 from dataclasses import dataclass
 from types import ModuleType
+from typing import NamedTuple
 
 import numpy as np
 
@@ -280,6 +281,27 @@ def _axis_tolerances(cell: float) -> tuple[float, float]:
     return corner, corner + CARVE_MARGIN
 
 
+class _PartsFromSonars(NamedTuple):
+    """One reading's sonars (``mounts``) and the parts seen from them: each sonar's axis
+    direction (``ax``, ``ay``, (S, 1)) and each part's offset from each mount (``dx``, ``dy``,
+    (S, K) m: a row per sonar, the K = M x PARTS parts flattened)."""
+
+    mounts: _Mounts
+    ax: np.ndarray
+    ay: np.ndarray
+    dx: np.ndarray
+    dy: np.ndarray
+
+    @staticmethod
+    def of(parts: np.ndarray, pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo) -> _PartsFromSonars:
+        """``parts`` (M, PARTS, 2) centres, m; ``pose`` (3,); ``ranges`` (S,) m."""
+        mounts = _Mounts.of(pose, ranges, sonar)
+        angle = mounts.yaw + sonar.angles
+        q = parts.reshape(-1, 2)
+        return _PartsFromSonars(mounts, np.cos(angle)[:, None], np.sin(angle)[:, None],
+                                q[None, :, 0] - mounts.mx[:, None], q[None, :, 1] - mounts.my[:, None])
+
+
 def echo_axis_parts(parts: np.ndarray, pose: np.ndarray, ranges: np.ndarray, sonar: SonarInfo,
                     cell: float) -> np.ndarray:
     """(M, PARTS) bool: the parts (centres ``parts`` (M, PARTS, 2), m, cells of side ``cell``)
@@ -287,13 +309,8 @@ def echo_axis_parts(parts: np.ndarray, pose: np.ndarray, ranges: np.ndarray, son
     within :func:`_axis_tolerances` of the point on its axis at the range read. An echo comes
     from the nearest surface anywhere in the cone; only where the sonar faces that surface
     does the axis point lie on it (elsewhere it lies in the open, where no occupied part is)."""
-    mounts = _Mounts.of(pose, ranges, sonar)
+    mounts, ax, ay, dx, dy = _PartsFromSonars.of(parts, pose, ranges, sonar)
     across_tol, along_tol = _axis_tolerances(cell)
-    angle = mounts.yaw + sonar.angles
-    ax, ay = np.cos(angle)[:, None], np.sin(angle)[:, None]
-    q = parts.reshape(-1, 2)
-    dx = q[None, :, 0] - mounts.mx[:, None]  # (S, K): rows per sonar
-    dy = q[None, :, 1] - mounts.my[:, None]
     along = dx * ax + dy * ay
     across = np.abs(dx * ay - dy * ax)
     hit = (across <= across_tol) & (np.abs(along - mounts.r[:, None]) <= along_tol)
@@ -313,13 +330,8 @@ def unexplained_echo_parts(parts: np.ndarray, kept: np.ndarray, pose: np.ndarray
     parts the arc crosses stay carved. An echo that only carved parts could have returned says
     that a carving was wrong (odometry drift, the body pressed on the obstacle). Every sonar's
     test reads ``kept`` as given (before any of these parts is kept again)."""
-    mounts = _Mounts.of(pose, ranges, sonar)
+    mounts, ax, ay, dx, dy = _PartsFromSonars.of(parts, pose, ranges, sonar)
     _, along_tol = _axis_tolerances(cell)
-    angle = mounts.yaw + sonar.angles
-    ax, ay = np.cos(angle)[:, None], np.sin(angle)[:, None]
-    q = parts.reshape(-1, 2)
-    dx = q[None, :, 0] - mounts.mx[:, None]  # (S, K): rows per sonar
-    dy = q[None, :, 1] - mounts.my[:, None]
     d = np.hypot(dx, dy)
     on_arc = (dx * ax + dy * ay >= d * math.cos(sonar.cone / 2)) & (np.abs(d - mounts.r[:, None]) <= along_tol)
     on_arc &= ((mounts.r < sonar.max_range) & (mounts.r <= UNDO_REACH_M))[:, None]

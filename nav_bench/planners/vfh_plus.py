@@ -553,6 +553,7 @@ class VFHPlus(Planner):
               minimum=0.0),
         Param("turn_in_place_deg", 60.0, "deg", "turn on the spot when the chosen direction is farther off",
               minimum=0.0, maximum=180.0),
+        # the carving's settings: SeeThroughCarving's memory_s, undo, body_clear and body_memory_s
         Param("carve_seen_through", True, "-", "build the histogram from the parts of the grid's cells the "
               "sonars have not seen through from two views (nav_bench.planners.carving); false: whole cells"),
         Param("carve_memory_s", 10.0, "s", "how long a carved part stays carved (the two views that confirm it "
@@ -560,13 +561,12 @@ class VFHPlus(Planner):
         Param("carve_undo", "unexplained", "-", "when an echo keeps carved parts again: off, axis (on a sonar's axis at "
               "the range read) or unexplained (on an echo's arc none of whose parts is kept); SeeThroughCarving "
               "undo", choices=UNDO_MODES),
-        Param("carve_body_clear", 0.0, "m", "the parts under the body are carved only while no sonar reads an "
-              "echo nearer than this (0: always; SeeThroughCarving body_clear)", minimum=0.0),
-        Param("carve_body_memory_s", 10.0, "s", "how long the body's carving of the parts under it lasts (at most "
-              "carve_memory_s; SeeThroughCarving body_memory_s)", minimum=0.0),
-        Param("roll_time_s", 0.6, "s", "the roll-on of a turn on the spot started at speed v is about v times "
-              "this (spin_probe: 18 cm from 0.3 m/s); the brake acts only where that roll meets a sure point",
-              minimum=0.0),
+        Param("carve_body_clear", 0.0, "m", "carve under the body only with no echo nearer (0: always)", minimum=0.0),
+        Param("carve_body_memory_s", 10.0, "s", "how long the body's carving lasts (<= carve_memory_s)", minimum=0.0),
+        # the brake before a turn on the spot: a spin commanded at speed rolls the body on
+        # (results/baselines/vfh_s17/, vfh_s18/)
+        Param("roll_time_s", 0.6, "s", "a turn on the spot started at speed v rolls on about v times this "
+              "(spin_probe: 18 cm from 0.3 m/s); the brake acts only where that roll meets a sure point", minimum=0.0),
         Param("roll_sweep_deg", 75.0, "deg", "how far the heading swings during that roll-on (the turn rate "
               "ramps up while the centre keeps its speed: 63-77 deg in 0.6 s in G6's traces); the brake tests the "
               "arc this bends the roll into, toward the turn", minimum=0.0, maximum=180.0),
