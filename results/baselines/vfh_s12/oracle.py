@@ -4,7 +4,7 @@ If an episode that times out on the sonar grid is reached here, the sonar map's 
 the way; if it still fails, the histogram/cost rules (or the method) do.
 PYTHONPATH=$PWD python results/baselines/vfh_s12/oracle.py WORLD.yaml [inflate=M] [key=value ...]
 (inflate: widen the true obstacles by M m; key=value: planner parameters; the environment
-variable ORACLE_TRACE=X.npz saves the trace.) Prints the result row's outcome, time, contacts.
+variable ORACLE_TRACE=X.npz saves the trace, ORACLE_SEED=N plays seed N, default 0.) Prints the result row's outcome, time, contacts.
 The raster covers the world rectangle only, so outer walls outside it are missing."""
 import json
 import os
@@ -38,6 +38,7 @@ class OracleVFH(VFHPlus):
     _inflate = 0.0
 
 
+SEED = int(os.environ.get("ORACLE_SEED", "0"))
 world_file = sys.argv[1]
 kw = dict(a.split("=") for a in sys.argv[2:] if not a.startswith("inflate"))
 kw = {k: float(v) for k, v in kw.items()}
@@ -47,9 +48,9 @@ for a in sys.argv[2:]:
 world = load_world(world_file)
 spec = parse_planner_arg("vfh_plus")
 planner = OracleVFH(world, **kw)
-res = run_episode(world, spec, seed=0, robot=load_robot(), settings=EpisodeSettings(), planner_instance=planner)
+res = run_episode(world, spec, seed=SEED, robot=load_robot(), settings=EpisodeSettings(), planner_instance=planner)
 r = res.row
 if os.environ.get("ORACLE_TRACE"):
     res.trace.save(os.environ["ORACLE_TRACE"])
-print(json.dumps({"world": r.world, "outcome": r.outcome, "time_s": r.time_s, "collisions": r.collisions,
+print(json.dumps({"world": r.world, "seed": SEED, "outcome": r.outcome, "time_s": r.time_s, "collisions": r.collisions,
                   "path": round(r.path_length_m, 2), "goal_d": round(r.goal_distance_m, 2)}))
