@@ -94,7 +94,7 @@ class SeeThroughCarving:
     :class:`~nav_bench.errors.InputError` without Numba) or ``auto`` (numba when it can be
     imported): the same records and masks bit for bit.
 
-    Three settings (their defaults are D* Lite's and main's carving):
+    Four settings (their defaults are D* Lite's, the carving before VFH+ kept its parts longer):
 
     * ``memory_s`` (s, ``CARVE_MEMORY_S``): how long a carved part stays carved. The two views
       that confirm a part must still fall within ``CARVE_MEMORY_S`` of each other.
