@@ -91,7 +91,7 @@ from nav_bench.mapping.occupancy import SONAR_MODELS, OccupancyGrid
 from nav_bench.planners.base import Param, ParamError, Planner
 from nav_bench.planners.carving import SeeThroughCarving
 from nav_bench.planners.dstar_loops import _K, _Q, FULL, apply_costs, descend, recompute_rhs
-from nav_bench.planners.follow import STOP, arrival_speed, pure_pursuit, steer
+from nav_bench.planners.follow import STOP, OdometrySpeed, arrival_speed, pure_pursuit, steer
 from nav_bench.planners.footprint import (
     CARVE_SUB,
     Guarded,
@@ -1064,8 +1064,7 @@ class DStarLite(Planner):
         self.last_reason: StuckReason | None = None
         self.no_path_left = p.no_path_recoveries
         self._carving = SeeThroughCarving(self.grid.frame, obs.pose)  # parts of cells seen through
-        self._last_pose: np.ndarray | None = None
-        self._last_t = obs.t
+        self._odometry_speed = OdometrySpeed()
         self._speed = 0.0
         self._escape: tuple[float, float] | None = None  # (world heading, since when) of a way out
         self._near = self._squares
@@ -1152,16 +1151,6 @@ class DStarLite(Planner):
         if self._squares.occupied is not self.occupied:  # the map array was replaced
             self._squares.occupied = self.occupied
         return self._squares(xy)
-
-    def _odometry_speed(self, obs: Observation) -> float:
-        """Forward speed (m/s) since the last cycle, from odometry (0 on the first)."""
-        pose = np.asarray(obs.pose, dtype=float)
-        prev, t_prev = self._last_pose, self._last_t
-        self._last_pose, self._last_t = pose.copy(), obs.t
-        if prev is None or obs.t <= t_prev:
-            return 0.0
-        d = pose[:2] - prev[:2]
-        return float(d[0] * math.cos(pose[2]) + d[1] * math.sin(pose[2])) / (obs.t - t_prev)
 
     def _local_clearance(self, obs: Observation) -> PointObstacles:
         """The clearance the follower and the recovery check motions against this cycle: exact

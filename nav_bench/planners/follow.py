@@ -154,6 +154,26 @@ def arrival_speed(distance: float, v_des: float, slow_radius: float = 0.6) -> fl
     return v_des * min(1.0, max(0.2, distance / slow_radius))
 
 
+class OdometrySpeed:
+    """The robot's forward speed, m/s, from two consecutive odometry poses: the displacement
+    along the current heading over the time between them (0 at the first pose, or when no time
+    passed). The drive's acceleration limits make it lag the commands, which is what a brake or
+    a footprint check needs to know. Call once per control cycle."""
+
+    def __init__(self) -> None:
+        self._pose: np.ndarray | None = None
+        self._t = 0.0
+
+    def __call__(self, obs: Observation) -> float:
+        pose = np.asarray(obs.pose, dtype=float)
+        prev, t_prev = self._pose, self._t
+        self._pose, self._t = pose.copy(), obs.t
+        if prev is None or obs.t <= t_prev:
+            return 0.0
+        d = pose[:2] - prev[:2]
+        return float(d[0] * math.cos(pose[2]) + d[1] * math.sin(pose[2])) / (obs.t - t_prev)
+
+
 def pure_pursuit(obs: Observation, path: np.ndarray, lookahead: float, v_des: float, *,
                  turn_in_place: float = math.radians(60.0)) -> Command:
     """Follow a polyline ``path`` (N, 2) (world, m; first point near the robot, last the goal).

@@ -117,7 +117,7 @@ from nav_bench.mapping.grid import GridFrame
 from nav_bench.mapping.occupancy import UNKNOWN, OccupancyGrid
 from nav_bench.planners.base import Param, Planner
 from nav_bench.planners.carving import UNDO_MODES, SeeThroughCarving
-from nav_bench.planners.follow import STOP, arrival_speed, limit
+from nav_bench.planners.follow import STOP, OdometrySpeed, arrival_speed, limit
 
 
 def sector_distance(a: np.ndarray | float, b: np.ndarray | float, n: int) -> np.ndarray:
@@ -477,6 +477,12 @@ def roll_arc(length: float, sweep: float, steps: int = 8) -> np.ndarray:
     return np.cumsum(np.stack([step * np.cos(heading), step * np.sin(heading)], axis=1), axis=0)
 
 
+def spin_sign(v: float, omega: float) -> float:
+    """The sign of a command's turn on the spot: +1 left, -1 right, 0 when it drives (``v``
+    m/s not 0) or does not turn (``omega`` rad/s 0)."""
+    return math.copysign(1.0, omega) if v == 0.0 and omega != 0.0 else 0.0
+
+
 def relax_factors(relax_max: float) -> list[float]:
     """Threshold factors 2, 4, ... up to ``relax_max`` tried in turn when no valley is open."""
     return [2.0 ** i for i in range(1, int(math.log2(relax_max) + 1e-9) + 1)]
@@ -594,7 +600,7 @@ class VFHPlus(Planner):
         self.blocked = False
         self.primary = np.zeros(self.n)
         self.masked = np.zeros(self.n, dtype=bool)
-        self.last_pose, self.last_t = np.asarray(obs.pose, dtype=float).copy(), obs.t
+        self._speed = OdometrySpeed()  # m/s along the heading, from odometry (the brake's)
         self.spinning = 0.0  # the sign of the last command's turn on the spot (0: none, or a brake)
 
     def _sector(self, angle: float) -> float:
@@ -635,7 +641,7 @@ class VFHPlus(Planner):
                 self.emit("blocked", obs.t)
             self.blocked, self.v_prev = True, 0.0
             omega = self._spot_turn(self.turn_sign * 0.5 * robot.omega_max, speed, window, yaw, robot.radius)
-            self.spinning = math.copysign(1.0, omega) if omega != 0.0 else 0.0
+            self.spinning = spin_sign(0.0, omega)
             return limit(0.0, omega, robot)
         self.blocked = False
         self.k_prev = k
@@ -652,19 +658,8 @@ class VFHPlus(Planner):
             v = arrival_speed(d_goal, v) * max(0.0, math.cos(err))
         cmd = limit(v, omega, robot)
         self.v_prev = cmd.v
-        self.spinning = math.copysign(1.0, omega) if v == 0.0 and omega != 0.0 else 0.0
+        self.spinning = spin_sign(v, omega)
         return cmd if math.isfinite(cmd.v) else STOP
-
-    def _speed(self, obs: Observation) -> float:
-        """The robot's speed along its heading over the last cycle, m/s (odometry; the drive's
-        acceleration limit makes it lag the commands), and remember this cycle's pose."""
-        pose = np.asarray(obs.pose, dtype=float)
-        dt = obs.t - self.last_t
-        moved = pose[:2] - self.last_pose[:2]
-        yaw = float(pose[2])
-        speed = (float(moved[0]) * math.cos(yaw) + float(moved[1]) * math.sin(yaw)) / dt if dt > 0 else 0.0
-        self.last_pose, self.last_t = pose.copy(), obs.t
-        return speed
 
     def _spot_turn(self, omega: float, speed: float, window: ActiveWindow, yaw: float, radius: float) -> float:
         """The turn rate of a turn on the spot, rad/s: ``omega``, or 0 (brake straight) while the
