@@ -254,23 +254,22 @@ class SeeThroughCarving:
         act = np.flatnonzero(change)
         if len(act) == 0:
             return seen
-        seen_all = seen
         carved_rows = self.carved_t.reshape(-1, PARTS)
         seen_rows, view_rows = self.seen_t.reshape(-1, PARTS), self.seen_view.reshape(-1, PARTS)
-        at, seen = flat[act], seen[act]
+        at, seen_act = flat[act], seen[act]
         times, seen_at, views = carved_rows[at], seen_rows[at], view_rows[at]  # copies
-        confirmed = seen & (views >= 0) & (views != self.view) & (seen_at >= obs.t - CARVE_MEMORY_S)
+        confirmed = seen_act & (views >= 0) & (views != self.view) & (seen_at >= obs.t - CARVE_MEMORY_S)
         times[confirmed] = obs.t
         if echoed is not None:
-            times[echoed[act] & ~seen] = -INF  # a surface on the axis: whatever carved it was wrong
-        seen_at[seen] = obs.t
-        views[seen] = self.view
+            times[echoed[act] & ~seen_act] = -INF  # a surface on the axis: whatever carved it was wrong
+        seen_at[seen_act] = obs.t
+        views[seen_act] = self.view
         if body:
             pa = parts[act]
             body_t = obs.t - self.body_lag  # never earlier than the part's record (a view's carving lasts)
             times[(np.hypot(pa[..., 0] - x, pa[..., 1] - y) <= obs.robot.radius) & (times < body_t)] = body_t
         carved_rows[at], seen_rows[at], view_rows[at] = times, seen_at, views
-        return seen_all
+        return seen
 
 
 def _axis_tolerances(cell: float) -> tuple[float, float]:
