@@ -73,7 +73,14 @@ def test_a_recursive_alias_is_refused(tmp_path, capsys):
 def test_deep_nesting_is_refused_not_a_stack_overflow(tmp_path, capsys):
     path = tmp_path / "deep.yaml"
     path.write_text("name: " + "[" * 50_000 + "]" * 50_000 + "\n")
-    _refused(capsys, ["validate", str(path)], f"{path}:1:", "nested deeper than")
+    _refused(capsys, ["validate", str(path)], f"{path}:1:", "nested deeper than 100 levels")
+
+
+def test_nesting_past_the_bound_but_within_libyamls_is_refused_by_the_composer(tmp_path, capsys):
+    # 150 levels: libyaml's own flow limit (1000, PyYAML >= 6.0.4) does not fire, ours does
+    path = tmp_path / "deep.yaml"
+    path.write_text("name:\n  - " + "[" * 150 + "]" * 150 + "\n")
+    _refused(capsys, ["validate", str(path)], f"{path}:2:", "nested deeper than 100 levels")
 
 
 def test_aliases_and_merge_keys_still_work():
