@@ -55,7 +55,7 @@ def kinds_of(path):
         yaw = float(odom[i - 1, 2])
         mv = odom[i - 1, :2] - odom[max(0, i - 2), :2]
         speed = float(mv[0] * math.cos(yaw) + mv[1] * math.sin(yaw)) / 0.1
-        out.append(dict(world=meta["row"]["world"], seed=meta["row"]["seed"], t=float(t[i]),
+        out.append(dict(world=meta["row"]["world"], seed=meta["row"]["seed"], i=i, t=float(t[i]),
                         x=float(true[i, 0]), y=float(true[i, 1]), side=side, v=v, w=w, speed=speed,
                         kind="wall" if on_wall else kind, after_turn=spun))
     return out
@@ -79,4 +79,5 @@ def main():
     print(f"total {len(rows)} contact starts in {episodes} episodes:", dict(sorted(count.items())))
 
 
-main()
+if __name__ == "__main__":
+    main()
