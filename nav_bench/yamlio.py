@@ -46,7 +46,6 @@ class LineIndex:
 MAX_DEPTH = 100  # nested mappings/lists, aliases included
 MAX_ALIAS_NODES = 1_000_000  # values that aliases (*name) may add by repeating an anchor
 MAX_FILE_BYTES = 256 * 1024 * 1024  # a world of a million obstacles is ~60 MB
-_TOO_DEEP = f"nested deeper than {MAX_DEPTH} levels"
 
 _PLAIN_SCALAR_TAGS = frozenset(f"tag:yaml.org,2002:{t}" for t in (
     "null", "bool", "int", "float", "str", "timestamp", "binary"))
@@ -58,6 +57,11 @@ _MERGE = object()  # the merge key <<
 _STR_TAG = "tag:yaml.org,2002:str"
 _FLOAT_TAG = "tag:yaml.org,2002:float"
 _SIMPLE_FLOAT = re.compile(r"[-+]?[0-9]+\.[0-9]*(?:[eE][-+][0-9]+)?\Z")  # float() reads it alike
+
+
+def _too_deep() -> str:
+    """The one message for nesting past :data:`MAX_DEPTH` (read when raised, like the bound)."""
+    return f"nested deeper than {MAX_DEPTH} levels"
 
 
 def _event_parser(text: str) -> Any:
@@ -202,7 +206,7 @@ class _Composer:
                     if event.tag not in (None, "!", _MAP_TAG if is_map else _SEQ_TAG):
                         raise self.error(_tag_problem(event.tag), line, loc)
                     if len(stack) >= MAX_DEPTH:
-                        raise self.error(_TOO_DEEP, line)
+                        raise self.error(_too_deep(), line)
                     if event.anchor is not None:
                         self.anchors[event.anchor] = _Anchor(None, 0, 0)
                     parent = [{} if is_map else [], loc, is_map, _NO_KEY, event.anchor, 1, 0, []]
@@ -248,7 +252,7 @@ class _Composer:
             raise self.error(f"aliases expand to more than {MAX_ALIAS_NODES:,} values "
                              f"(an alias bomb?)", line, loc)
         if depth + anchor.depth > MAX_DEPTH:
-            raise self.error(_TOO_DEEP, line)
+            raise self.error(_too_deep(), line)
         value = copy.deepcopy(anchor.value) if anchor.nodes > 1 else anchor.value
         return value, anchor.nodes, anchor.depth
 
@@ -277,7 +281,7 @@ def parse_yaml(text: str, file: str | Path = "<string>") -> tuple[Any, LineIndex
         if "maximum nesting depth" in problem:
             # libyaml 0.2.6 (PyYAML >= 6.0.4) refuses flow nesting past 1000 levels while its
             # scanner reads ahead, before the composer sees depth MAX_DEPTH: one message either way
-            raise SpecError(_TOO_DEEP, file=file, line=line) from None
+            raise SpecError(_too_deep(), file=file, line=line) from None
         raise SpecError(f"not valid YAML: {problem}", file=file, line=line) from None
     return data, index
 
