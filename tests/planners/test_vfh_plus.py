@@ -627,3 +627,21 @@ def test_a_kept_part_within_r_rs_carries_its_whole_cell() -> None:
         assert h[71] == pytest.approx(minus5, abs=0.1)
         assert h[66] == 0.0
         assert h.max() == pytest.approx(expected, abs=0.1)
+
+
+def test_a_turn_on_the_spot_at_speed_is_capped_only_where_its_roll_would_meet_a_point() -> None:
+    # 0.25 m/s, a 5.77 rad/s turn to the left, default_robot (radius 0.2 m, wheel base from it):
+    # a faint point (certainty 1, under mask_certainty) 0.3 m off at +45 deg lies on the roll
+    # (H3's arc comes within 0.155 m): capped at 2 x 0.25 / b; the same point at -45 deg (off
+    # the roll, 0.253 m) or the robot below brake_speed: the turn as asked
+    robot = default_robot()
+    planner = VFHPlus()
+    world, _start, _goal = open_room()
+    planner.reset(observe(world, np.array([3.0, 2.5, 0.0]), np.array([5.0, 4.0]), robot, 0.0, 0.1),
+                  np.random.default_rng(0))
+    xy = np.array([3.0, 2.5])
+    cap = 2 * 0.25 / robot.wheel_base
+    for bearing, speed, expected in ((45.0, 0.25, cap), (-45.0, 0.25, 5.77), (45.0, 0.01, 5.77)):
+        point = xy + 0.30 * np.array([math.cos(math.radians(bearing)), math.sin(math.radians(bearing))])
+        faint = ActiveWindow.of_cells(point[None], np.array([1.0]), xy)
+        assert planner._capped(5.77, speed, faint, 0.0, robot) == pytest.approx(expected)
