@@ -81,6 +81,19 @@ safety distance are linear in the speed, so a slow robot may come closer to obst
 Only if even that finds none does the robot stop and turn on the spot (``blocked`` event,
 ``stuck_reason`` NO_PATH) so its front sonars scan for one.
 
+**Turns on the spot at speed** (issue 12, ``results/baselines/vfh_s17/`` to ``vfh_s20/``): the
+paper's robot turns where it is told; this one's wheels ramp at 1 m/s^2, so a turn on the spot
+commanded at speed ramps the outer wheel up and the inner one down, and the centre keeps its
+speed until the outer wheel reaches the turn's (0.5 s for 5.8 rad/s from 0.25 m/s, 0.19 m of
+roll). That roll was most of VFH+'s contacts. Two guards act only where the roll, modelled as
+an arc (:func:`roll_arc`), would come within the body's radius of a window point: before the
+turn begins, the robot brakes straight if the point is sure (:meth:`VFHPlus._spot_turn`);
+otherwise the turn rate is capped at the rate whose outer wheel keeps the present speed, so
+only the inner wheel reverses and the centre slows from the start (:meth:`VFHPlus._capped`,
+any certainty). A roll into free space is left alone: it is what carries the robot into many
+gaps, and braking or capping every roll lost them. Gated on 360 episodes no revision had
+played (``vfh_s20``): reached 184 -> 196, episodes with a contact 56 -> 29.
+
 What VFH+ cannot do, by its method: it has no memory and no look-ahead (VFH*, Ulrich &
 Borenstein 2000, adds it), so a U trap, a comb's closed pocket or a maze's dead end holds
 it in a back-and-forth the episode ends as ``stuck`` (oscillating); and a gap narrower than
@@ -713,7 +726,7 @@ class VFHPlus(Planner):
         reaches the turn's speed (0.5 s for 5.8 rad/s from 0.25 m/s) and touches what lies on
         the roll (``results/baselines/vfh_s19/``); capped, only the inner wheel reverses and the
         centre slows from the start. Capped everywhere the robot touched 10 times less but lost
-        the gaps it rolls into, so a roll into free space is left alone."""
+        the gaps it rolls into, so a roll into free space is left alone (gate: ``vfh_s20/``)."""
         if abs(speed) <= self.settings.brake_speed or abs(omega) <= 2.0 * abs(speed) / robot.wheel_base:
             return omega
         if not self._roll_meets(window, np.ones(len(window), dtype=bool), omega, speed, yaw, robot.radius):
