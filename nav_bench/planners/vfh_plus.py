@@ -582,15 +582,17 @@ class VFHPlus(Planner):
               "undo", choices=UNDO_MODES),
         Param("carve_body_clear", 0.0, "m", "carve under the body only with no echo nearer (0: always)", minimum=0.0),
         Param("carve_body_memory_s", 10.0, "s", "how long the body's carving lasts (<= carve_memory_s)", minimum=0.0),
-        # the brake before a turn on the spot: a spin commanded at speed rolls the body on
-        # (results/baselines/vfh_s17/, vfh_s18/)
+        # the brake before a turn on the spot and the cap on its rate: a spin commanded at speed
+        # rolls the body on (results/baselines/vfh_s17/ to vfh_s20/)
         Param("roll_time_s", 0.6, "s", "a turn on the spot started at speed v rolls on about v times this "
-              "(spin_probe: 18 cm from 0.3 m/s); the brake acts only where that roll meets a sure point", minimum=0.0),
+              "(spin_probe: 18 cm from 0.3 m/s); the brake acts only where that roll meets a sure point, the "
+              "cap on the turn rate (_capped) where it meets any window point", minimum=0.0),
         Param("roll_sweep_deg", 75.0, "deg", "how far the heading swings during that roll-on (the turn rate "
               "ramps up while the centre keeps its speed: 63-77 deg in 0.6 s in G6's traces); the brake tests the "
-              "arc this bends the roll into, toward the turn", minimum=0.0, maximum=180.0),
+              "arc this bends the roll into, toward the turn (so does the cap)", minimum=0.0, maximum=180.0),
         Param("brake_speed", 0.02, "m/s", "a turn on the spot starts only below this speed; faster, the robot "
-              "brakes straight first where the roll-on would meet a sure point (_spot_turn); 0: never brake",
+              "brakes straight first where the roll-on would meet a sure point (_spot_turn), and elsewhere a turn "
+              "whose roll-on would meet a point is capped at 2 |v| / wheel base (_capped); 0: never brake",
               minimum=0.0),
     )
 
