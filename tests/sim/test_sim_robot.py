@@ -181,3 +181,22 @@ def test_a_sonar_is_added_by_editing_the_urdf_only(session, tmp_path):
     assert len(info.angles) == 7 and sim.sense().shape == (7,)
     assert abs(info.angles[6]) == pytest.approx(math.pi)
     assert info.offsets[6] == pytest.approx([-0.18, 0.0], abs=1e-6)
+
+
+@pytest.mark.parametrize("capped", [False, True])
+def test_a_turn_on_the_spot_begun_at_speed_rolls_on_unless_its_rate_keeps_the_outer_wheel(
+        session, exact_robot, capped):
+    # the premise of VFH+'s roll cap (results/baselines/vfh_s19/, vfh_s20/): from v0 = 0.25 m/s,
+    # v = 0 with 5.77 rad/s ramps the outer wheel up and the inner down at the same rate, so the
+    # centre keeps v0 until the outer wheel reaches omega b / 2, then slows: it rolls
+    # v0 (omega b / 2 - v0) / a + v0^2 / a (0.19 m at a = 1 m/s^2); at omega = 2 v0 / b the outer
+    # wheel already turns at the turn's speed and only the inner one reverses: v0^2 / a (0.06 m)
+    sim = make_sim(session, make_world(**OPEN_FLOOR), exact_robot)
+    v0, base = 0.25, sim.robot_info.wheel_base
+    accel = exact_robot.drive.max_wheel_accel * 0.05  # m/s^2 at the rim
+    omega = 2.0 * v0 / base if capped else 5.77
+    drive(sim, Command(v0, 0.0), 1.5)  # up to speed
+    roll, _ = drive(sim, Command(0.0, omega), 1.5)
+    expected = v0 * max(omega * base / 2 - v0, 0.0) / accel + v0**2 / accel
+    assert roll == pytest.approx(expected, rel=0.15)
+    assert roll == pytest.approx(0.0625 if capped else 0.1875, abs=0.02)  # the figures quoted
