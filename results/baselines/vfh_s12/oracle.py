@@ -23,9 +23,12 @@ from nav_bench.world.raster import rasterize
 
 
 class OracleVFH(VFHPlus):
-    def __init__(self, world, **kw):
+    """VFH+ whose grid reads the world's true obstacles, widened ``inflate`` m (the sonar map is
+    still built, unread)."""
+
+    def __init__(self, world, inflate: float = 0.0, **kw):
         super().__init__(**kw)
-        self._world = world
+        self._world, self._inflate = world, inflate
 
     def reset(self, obs, rng):
         super().reset(obs, rng)
@@ -35,22 +38,22 @@ class OracleVFH(VFHPlus):
         assert true.shape == self.grid.values().shape, (true.shape, self.grid.values().shape)
         self.grid.values = lambda copy=True: true  # shadow the sonar map's values
 
-    _inflate = 0.0
+
+def main() -> None:
+    seed = int(os.environ.get("ORACLE_SEED", "0"))
+    world_file = sys.argv[1]
+    kw = {k: float(v) for k, v in (a.split("=") for a in sys.argv[2:] if not a.startswith("inflate"))}
+    inflate = next((float(a.split("=")[1]) for a in sys.argv[2:] if a.startswith("inflate=")), 0.0)
+    world = load_world(world_file)
+    spec = parse_planner_arg("vfh_plus")
+    planner = OracleVFH(world, inflate=inflate, **kw)
+    res = run_episode(world, spec, seed=seed, robot=load_robot(), settings=EpisodeSettings(), planner_instance=planner)
+    r = res.row
+    if os.environ.get("ORACLE_TRACE"):
+        res.trace.save(os.environ["ORACLE_TRACE"])
+    print(json.dumps({"world": r.world, "seed": seed, "outcome": r.outcome, "time_s": r.time_s, "collisions": r.collisions,
+                      "path": round(r.path_length_m, 2), "goal_d": round(r.goal_distance_m, 2)}))
 
 
-SEED = int(os.environ.get("ORACLE_SEED", "0"))
-world_file = sys.argv[1]
-kw = dict(a.split("=") for a in sys.argv[2:] if not a.startswith("inflate"))
-kw = {k: float(v) for k, v in kw.items()}
-for a in sys.argv[2:]:
-    if a.startswith("inflate="):
-        OracleVFH._inflate = float(a.split("=")[1])
-world = load_world(world_file)
-spec = parse_planner_arg("vfh_plus")
-planner = OracleVFH(world, **kw)
-res = run_episode(world, spec, seed=SEED, robot=load_robot(), settings=EpisodeSettings(), planner_instance=planner)
-r = res.row
-if os.environ.get("ORACLE_TRACE"):
-    res.trace.save(os.environ["ORACLE_TRACE"])
-print(json.dumps({"world": r.world, "seed": SEED, "outcome": r.outcome, "time_s": r.time_s, "collisions": r.collisions,
-                  "path": round(r.path_length_m, 2), "goal_d": round(r.goal_distance_m, 2)}))
+if __name__ == "__main__":
+    main()

@@ -12,36 +12,19 @@ PYTHONPATH=$PWD python results/baselines/vfh_s20/oracle_families.py 0-2 results/
 import json
 import os
 import sys
-
-import numpy as np
+from pathlib import Path
 
 from nav_bench.episode import EpisodeSettings
 from nav_bench.episode.loop import run_episode
 from nav_bench.planners.registry import parse_planner_arg
-from nav_bench.planners.vfh_plus import VFHPlus
 from nav_bench.reporting.episode_plot import plot_episode
 from nav_bench.specs import load_robot
-from nav_bench.world.geometry import static_geometry
 from nav_bench.world.load import load_world
-from nav_bench.world.raster import rasterize
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "vfh_s12"))
+from oracle import OracleVFH  # the true map's one home
 
 INFLATE_M = 0.05
-
-
-class TrueMapVFH(VFHPlus):
-    """VFH+ whose grid reads the world's true obstacles (the sonar map is still built, unread)."""
-
-    def __init__(self, world, **kw):
-        super().__init__(**kw)
-        self._world = world
-
-    def reset(self, obs, rng):
-        super().reset(obs, rng)
-        raster = rasterize(static_geometry(self._world), self.settings.cell, inflate=INFLATE_M,
-                           bounds=tuple(obs.bounds))
-        true = np.where(raster.occupied, 100.0, 50.0)
-        assert true.shape == self.grid.values().shape, (true.shape, self.grid.values().shape)
-        self.grid.values = lambda copy=True: true  # shadow the sonar map's values
 
 
 def main(seeds: str, files: list) -> None:
@@ -51,7 +34,7 @@ def main(seeds: str, files: list) -> None:
         world = load_world(path)
         for seed in range(first, last + 1):
             result = run_episode(world, spec, seed=seed, robot=robot, settings=EpisodeSettings(),
-                                 planner_instance=TrueMapVFH(world))
+                                 planner_instance=OracleVFH(world, inflate=INFLATE_M))
             row = result.row
             if os.environ.get("ORACLE_PLOT"):
                 plot_episode(result.trace, os.path.join(os.environ["ORACLE_PLOT"], f"{row.world}_s{seed}_truemap.png"))
