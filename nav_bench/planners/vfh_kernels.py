@@ -50,12 +50,12 @@ def window_cells(values: np.ndarray, box: np.ndarray, xs: np.ndarray, ys: np.nda
 def carved_points(x: np.ndarray, y: np.ndarray, certainty: np.ndarray, kept: np.ndarray,
                   parts: np.ndarray, x0: float, y0: float) -> tuple[np.ndarray, ...]:
     """Each window cell (centre ``x``, ``y`` (M,) m, ``certainty`` (M,)) with every part kept
-    (``kept`` (M, P) bool) as its centre, weight 1; each other cell as its kept parts
-    (``parts`` (M, P, 2) m), weight ``1 / k`` (k its kept parts), in window order: (x, y,
-    certainty, weight, dx, dy, distance from (``x0``, ``y0``)), each (N,)."""
+    (``kept`` (M, P) bool) as its centre, weight and area 1; each other cell as its kept parts
+    (``parts`` (M, P, 2) m), weight ``1 / k`` (k its kept parts) and area ``1 / P``, in window
+    order: (x, y, certainty, weight, area, dx, dy, distance from (``x0``, ``y0``)), each (N,)."""
     m_cells, n_parts = kept.shape
     n = m_cells * n_parts
-    px, py, cert, weight = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    px, py, cert, weight, area = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     k = 0
     for m in range(m_cells):
         count = 0
@@ -63,16 +63,17 @@ def carved_points(x: np.ndarray, y: np.ndarray, certainty: np.ndarray, kept: np.
             if kept[m, p]:
                 count += 1
         if count == n_parts:
-            px[k], py[k], cert[k], weight[k] = x[m], y[m], certainty[m], 1.0
+            px[k], py[k], cert[k], weight[k], area[k] = x[m], y[m], certainty[m], 1.0, 1.0
             k += 1
             continue
         share = 1.0 / max(count, 1)
         for p in range(n_parts):
             if kept[m, p]:
                 px[k], py[k], cert[k], weight[k] = parts[m, p, 0], parts[m, p, 1], certainty[m], share
+                area[k] = 1.0 / n_parts
                 k += 1
     dx, dy, dist = np.empty(k), np.empty(k), np.empty(k)
     for i in range(k):
         dx[i], dy[i] = px[i] - x0, py[i] - y0
         dist[i] = math.hypot(dx[i], dy[i])
-    return px[:k], py[:k], cert[:k], weight[:k], dx, dy, dist
+    return px[:k], py[:k], cert[:k], weight[:k], area[:k], dx, dy, dist

@@ -170,6 +170,9 @@ class ActiveWindow:
         rows, cols: (M,) the cells' grid indices (:func:`read_window`), or None.
         weight: (M,) each point's share of its cell's magnitude (1 for a whole cell, ``1 / k``
             for each of a cell's ``k`` kept parts), or None: all 1.
+        area: (M,) each point's share of its cell's area (1 for a whole cell, ``1 / PARTS`` for
+            a kept part), or None: all 1. The histogram weighs a part by it beyond
+            :data:`AREA_SHARE_BEYOND_M` (:func:`window_histogram`).
     """
 
     x: np.ndarray
@@ -181,6 +184,7 @@ class ActiveWindow:
     rows: np.ndarray | None = None
     cols: np.ndarray | None = None
     weight: np.ndarray | None = None
+    area: np.ndarray | None = None
 
     @classmethod
     def of_cells(cls, cells_xy: np.ndarray, certainty: np.ndarray, xy: np.ndarray) -> ActiveWindow:
@@ -208,9 +212,9 @@ class ActiveWindow:
         if compiled:
             if kept.all():
                 return self
-            x, y, certainty, weight, dx, dy, dist = load_kernels().carved_points(  # type: ignore[union-attr]
+            x, y, certainty, weight, area, dx, dy, dist = load_kernels().carved_points(  # type: ignore[union-attr]
                 self.x, self.y, self.certainty, kept, parts, float(xy[0]), float(xy[1]))
-            return ActiveWindow(x, y, certainty, dx, dy, dist, weight=weight)
+            return ActiveWindow(x, y, certainty, dx, dy, dist, weight=weight, area=area)
         whole = kept.all(axis=1)
         if whole.all():
             return self
@@ -222,8 +226,9 @@ class ActiveWindow:
         certainty = np.concatenate([self.certainty.take(cells), self.certainty.take(cell_i)])[order]
         share = 1.0 / np.maximum(kept.sum(axis=1), 1)  # the cell's magnitude shared by its kept parts
         weight = np.concatenate([np.ones(len(cells)), share.take(cell_i)])[order]
+        area = np.concatenate([np.ones(len(cells)), np.full(len(cell_i), 1.0 / kept.shape[1])])[order]
         dx, dy = x - xy[0], y - xy[1]
-        return ActiveWindow(x, y, certainty, dx, dy, np.hypot(dx, dy), weight=weight)
+        return ActiveWindow(x, y, certainty, dx, dy, np.hypot(dx, dy), weight=weight, area=area)
 
 
 def load_kernels() -> ModuleType | None:
@@ -345,6 +350,13 @@ def covered_sectors(beta: np.ndarray, gamma: np.ndarray, n_sectors: int) -> tupl
     return sectors.take(shifted.take(pairs)), pairs // width
 
 
+# m: beyond this distance a kept part of a carved cell weighs its area's share of the cell (1/25),
+# nearer its share of the cell's magnitude (1/k of its k kept parts; within r_rs the whole cell):
+# the twentieth session's screen of 0 (every part by area, the thirteenth session's rejected
+# share), 0.5 and 0.8 m on seen seeds (results/baselines/vfh_s20/)
+AREA_SHARE_BEYOND_M = 0.5
+
+
 def window_histogram(window: ActiveWindow, bearings: np.ndarray, n_sectors: int, r_rs: float,
                      d_max: float, b: float) -> np.ndarray:
     """(n,) primary polar histogram H^p of the ``window`` (its cells' ``bearings`` (M,), rad).
@@ -354,13 +366,19 @@ def window_histogram(window: ActiveWindow, bearings: np.ndarray, n_sectors: int,
     cell's magnitude, as the paper's cell within ``r_rs`` does over the +-90 deg it covers. A
     share there lets a convex corner beside the body, whose cell keeps only a few parts near it
     once its open parts stay carved, fall under the thresholds in the sectors the body would
-    graze it along (``results/baselines/vfh_s18/``)."""
+    graze it along (``results/baselines/vfh_s18/``). Beyond :data:`AREA_SHARE_BEYOND_M` a kept
+    part carries only its share of the cell's area (``window.area``): there the sums decide
+    which valley the robot heads for, and a cell's last part left a few centimetres proud of a
+    surface, with the whole cell's magnitude, closed gaps between boxes that the robot fits
+    (``results/baselines/vfh_s20/``)."""
     if len(window) == 0:
         return np.zeros(n_sectors)
     dist = np.maximum(window.dist, 1e-6)
     mag = window.certainty ** 2 * (1.0 + b * (d_max ** 2 - dist ** 2))
     if window.weight is not None:  # parts of cells: their share of the cell's magnitude
-        mag *= np.where(dist < r_rs, 1.0, window.weight)
+        share = window.weight if window.area is None else np.where(dist < AREA_SHARE_BEYOND_M, window.weight,
+                                                                   window.area)
+        mag *= np.where(dist < r_rs, 1.0, share)
     gamma = np.arcsin(np.minimum(1.0, r_rs / dist))
     sector, cell = covered_sectors(bearings, gamma, n_sectors)
     # (n, M): each cell's magnitude in the sectors it covers (each pair once), 0 elsewhere;

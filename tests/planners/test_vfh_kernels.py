@@ -12,7 +12,7 @@ from nav_bench.planners.vfh_plus import ActiveWindow, load_kernels, read_window,
 
 needs_numba = pytest.mark.skipif(load_kernels() is None, reason="numba is not installed (the 'fast' extra)")
 
-FIELDS = ("x", "y", "certainty", "dx", "dy", "dist", "rows", "cols", "weight")
+FIELDS = ("x", "y", "certainty", "dx", "dy", "dist", "rows", "cols", "weight", "area")
 
 
 def assert_same_window(a: ActiveWindow, b: ActiveWindow) -> None:

@@ -5,6 +5,7 @@ Runtime: ~1 s.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -13,6 +14,7 @@ import pytest
 from nav_bench.interface import GridState, StuckReason
 from nav_bench.mapping.grid import GridFrame
 from nav_bench.planners.vfh_plus import (
+    AREA_SHARE_BEYOND_M,
     ActiveWindow,
     VFHPlus,
     active_cells,
@@ -522,13 +524,29 @@ def test_a_cell_with_parts_seen_through_stands_as_its_kept_parts() -> None:
     np.testing.assert_allclose(out.y[1:], 0.11)
     np.testing.assert_array_equal(out.certainty, [15.0] + [6.0] * 5)
     np.testing.assert_allclose(out.weight, [1.0] + [1.0 / 5] * 5)
+    np.testing.assert_allclose(out.area, [1.0] + [1.0 / PARTS] * 5)
     np.testing.assert_allclose(out.dist, np.hypot(out.x, out.y))
-    # each of the 5 parts' magnitude is 1/5 of its cell's: that of certainty 6 / sqrt(5)
+    # 1.05 m off, beyond AREA_SHARE_BEYOND_M: each of the 5 parts' magnitude is its area's share
+    # of its cell's, 1/25: that of certainty 6 / 5
     hist = window_histogram(out, out.bearings(), N, r_rs=0.23, d_max=1.2, b=7.11)
     expected = (polar_histogram(centres[:1], np.array([15.0]), np.zeros(2), N, 0.23, 1.2, 7.11)
-                + polar_histogram(np.stack([out.x[1:], out.y[1:]], axis=1), np.full(5, 6.0 / math.sqrt(5)),
+                + polar_histogram(np.stack([out.x[1:], out.y[1:]], axis=1), np.full(5, 6.0 / 5),
                                   np.zeros(2), N, 0.23, 1.2, 7.11))
     np.testing.assert_allclose(hist, expected, rtol=1e-12)
+
+
+def test_a_kept_part_weighs_its_cells_magnitude_share_near_and_its_area_share_far() -> None:
+    # one kept part (k = 1: the cell's whole magnitude as its share; area 1/25), certainty 14,
+    # straight ahead: at 0.45 m, inside AREA_SHARE_BEYOND_M (0.5 m), the whole cell's magnitude
+    # 14^2 (1 + 7.11 (1.44 - 0.2025)) = 1920.5; at 0.55 m 1/25 of 14^2 (1 + 7.11 (1.44 - 0.3025))
+    # = 1/25 x 1781.2 = 71.2; a whole cell there keeps its whole magnitude
+    xy = np.zeros(2)
+    for dist, area, expected in ((0.45, 1.0 / 25, 1920.5), (0.55, 1.0 / 25, 71.2), (0.55, 1.0, 1781.2)):
+        cell = ActiveWindow.of_cells(np.array([[dist, 0.0]]), np.array([14.0]), xy)
+        point = dataclasses.replace(cell, weight=np.array([1.0]), area=np.array([area]))
+        h = window_histogram(point, point.bearings(), N, 0.23, 1.2, 7.11)
+        assert h[0] == pytest.approx(expected, abs=0.1)
+    assert AREA_SHARE_BEYOND_M == 0.5
 
 
 @pytest.mark.parametrize("memory_s", [3.0, 10.0])
