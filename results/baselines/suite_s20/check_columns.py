@@ -9,7 +9,7 @@ STUDIES = {
     "dstar_lite": (ROOT / "dstar_s6/episodes.jsonl", "dstar_lite"),
     "bug2": (ROOT / "follow_s18/gate/families_after.jsonl", "bug2"),
     "tangent_bug": (ROOT / "follow_s18/gate/families_after.jsonl", "tangent_bug"),
-    "vfh_plus": (ROOT / "vfh_s19/rows/families3_capmeets.jsonl", None),
+    "vfh_plus": (ROOT / "vfh_s20/rows/families3_area05.jsonl", None),
     "apf": (ROOT / "apf_dwa_s7/episodes.jsonl", "apf"),
     "dwa_global": (ROOT / "dwa_global_s16/rows/fam_global_after.jsonl", "dwa_global"),
 }
