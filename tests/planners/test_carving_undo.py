@@ -56,9 +56,12 @@ def arc_parts(parts: np.ndarray, pose: np.ndarray, ranges: np.ndarray, sonar, ce
 def test_an_unexplained_echo_keeps_the_gap_open_that_the_axis_and_the_arc_undo_close(kernel: str) -> None:
     """Facing the opened gap, the front cones' echoes come from the jambs' corners and the
     wall 1.7 m on. Undoing on every arc (the fourteenth session's candidate 5) or on the axis
-    points keeps proud parts again: the gap's sectors go over threshold_low (the axis points
-    of grazing echoes lie in the open gap, on cells the grid blamed from other arcs). Undoing
-    only where no kept part explains the echo leaves the gap exactly as no undo leaves it."""
+    points keeps proud parts again (the axis points of grazing echoes lie in the open gap, on
+    cells the grid blamed from other arcs): the arc undo closes the gap's sectors over
+    threshold_high; the axis undo raises each of them by about 270 (opened) and 320-370 (faced),
+    under threshold_low since kept parts beyond 0.5 m weigh their area's share
+    (``AREA_SHARE_BEYOND_M``, results/baselines/vfh_s20/; before it, over threshold_low).
+    Undoing only where no kept part explains the echo leaves the gap exactly as no undo."""
     p = VFHPlus().settings
     _, opened_off, faced_off = open_the_gap_then_face_it("off", kernel)
     assert np.all(opened_off < p.threshold_low) and np.all(faced_off < p.threshold_low)
@@ -66,7 +69,7 @@ def test_an_unexplained_echo_keeps_the_gap_open_that_the_axis_and_the_arc_undo_c
     np.testing.assert_array_equal(opened, opened_off)
     np.testing.assert_array_equal(faced, faced_off)
     _, opened_axis, faced_axis = open_the_gap_then_face_it("axis", kernel)
-    assert opened_axis.max() > p.threshold_low and faced_axis.max() > p.threshold_high
+    assert np.all(opened_axis - opened_off > 250.0) and np.all(faced_axis - faced_off > 300.0)
     if kernel == "numpy":  # the arc variant is a NumPy stand-in
         with pytest.MonkeyPatch.context() as mp:
             mp.setattr(carving_mod, "echo_axis_parts", arc_parts)
