@@ -680,8 +680,7 @@ class VFHPlus(Planner):
             if not self.blocked:
                 self.emit("blocked", obs.t)
             self.blocked, self.v_prev = True, 0.0
-            omega = self._spot_turn(self.turn_sign * 0.5 * robot.omega_max, speed, window, yaw, robot.radius)
-            omega = self._capped(omega, speed, window, yaw, robot)
+            omega = self._turn_on_the_spot(self.turn_sign * 0.5 * robot.omega_max, speed, window, yaw, robot)
             self.spinning = spin_sign(0.0, omega)
             return limit(0.0, omega, robot)
         self.blocked = False
@@ -692,8 +691,7 @@ class VFHPlus(Planner):
             self.turn_sign = math.copysign(1.0, err)
         omega = 2.5 * err
         if abs(err) > math.radians(p.turn_in_place_deg):
-            v, omega = 0.0, self._capped(self._spot_turn(omega, speed, window, yaw, robot.radius), speed, window,
-                                         yaw, robot)
+            v, omega = 0.0, self._turn_on_the_spot(omega, speed, window, yaw, robot)
         else:
             density = float(self.primary[round(k_heading) % self.n])
             v = v_top * (1.0 - min(density, slow) / slow)
@@ -702,6 +700,13 @@ class VFHPlus(Planner):
         self.v_prev = cmd.v
         self.spinning = spin_sign(v, omega)
         return cmd if math.isfinite(cmd.v) else STOP
+
+    def _turn_on_the_spot(self, omega: float, speed: float, window: ActiveWindow, yaw: float,
+                          robot: RobotInfo) -> float:
+        """The turn rate, rad/s, of a turn on the spot asked at ``omega`` while the body moves at
+        ``speed`` m/s: H3's brake (:meth:`_spot_turn`) decides first, then the cap on what is
+        left (:meth:`_capped`); a braked turn (0) passes the cap unchanged."""
+        return self._capped(self._spot_turn(omega, speed, window, yaw, robot.radius), speed, window, yaw, robot)
 
     def _spot_turn(self, omega: float, speed: float, window: ActiveWindow, yaw: float, radius: float) -> float:
         """The turn rate of a turn on the spot, rad/s: ``omega``, or 0 (brake straight) while the
@@ -726,21 +731,23 @@ class VFHPlus(Planner):
         sure = window.certainty > p.mask_certainty
         return 0.0 if self._roll_meets(window, sure, omega, speed, yaw, radius) else omega
 
-    def _roll_meets(self, window: ActiveWindow, points: np.ndarray, omega: float, speed: float, yaw: float,
+    def _roll_meets(self, window: ActiveWindow, points: np.ndarray | None, omega: float, speed: float, yaw: float,
                     radius: float) -> bool:
         """Whether the body rolling on from ``speed`` m/s into a turn on the spot the way of
         ``omega`` (:func:`roll_arc`: ``speed * roll_time_s`` m, the heading swinging
         ``roll_sweep_deg``) would come within ``radius`` m of one of the ``window``'s points
-        selected by ``points`` (M,) bool, and nearer than it is now (``yaw`` rad the heading)."""
-        if not points.any():
+        selected by ``points`` (M,) bool (None: every point), and nearer than it is now (``yaw``
+        rad the heading)."""
+        dx, dy, dist = ((window.dx, window.dy, window.dist) if points is None else
+                        (window.dx[points], window.dy[points], window.dist[points]))
+        if len(dist) == 0:
             return False
         p = self.settings
         c, s_ = math.cos(yaw), math.sin(yaw)
-        dx, dy = window.dx[points], window.dy[points]
         ahead, left = dx * c + dy * s_, -dx * s_ + dy * c  # body frame, m
         arc = roll_arc(abs(speed) * p.roll_time_s, math.copysign(math.radians(p.roll_sweep_deg), omega))
         nearest = np.hypot(ahead[:, None] - arc[None, :, 0], left[:, None] - arc[None, :, 1]).min(axis=1)
-        meets = (nearest < radius) & (nearest < window.dist[points])
+        meets = (nearest < radius) & (nearest < dist)
         return bool(meets.any())
 
     def _capped(self, omega: float, speed: float, window: ActiveWindow, yaw: float, robot: RobotInfo) -> float:
@@ -756,7 +763,7 @@ class VFHPlus(Planner):
         the gaps it rolls into, so a roll into free space is left alone (gate: ``vfh_s20/``)."""
         if abs(speed) <= self.settings.brake_speed or abs(omega) <= 2.0 * abs(speed) / robot.wheel_base:
             return omega
-        if not self._roll_meets(window, np.ones(len(window), dtype=bool), omega, speed, yaw, robot.radius):
+        if not self._roll_meets(window, None, omega, speed, yaw, robot.radius):
             return omega
         return math.copysign(2.0 * abs(speed) / robot.wheel_base, omega)
 
